@@ -1,0 +1,91 @@
+// Static equilibrium of one strand: minimize E_e + E_g over the 3n curvatures (paper, section 2.3).
+#pragma once
+
+#include <string>
+
+#include "ringlet/energy.h"
+#include "ringlet/math.h"
+#include "ringlet/strand_model.h"
+
+namespace ringlet {
+
+/// The minimization algorithm. Both work on curvatures scaled by the elastic stiffness,
+/// x_i = sqrt(l_i K) (Omega_i - Omega^0), so that the elastic energy is |x|^2/2 and the
+/// conditioning is set by gravity alone.
+enum class Method {
+  kBfgs,    ///< dense BFGS with a strong-Wolfe line search (modern form of the paper's DFP [FP63])
+  kNewton,  ///< Newton with a Hessian finite-differenced from the exact gradient, eigenvalue-shifted
+};
+
+/// Why the minimizer stopped.
+enum class Termination {
+  kConverged,         ///< the equilibrium residual fell below the tolerance
+  kMaxIterations,     ///< the iteration budget ran out first
+  kLineSearchFailed,  ///< no step decreased the energy enough (usually rounding at the optimum)
+  kNonFinite,         ///< an energy or gradient was NaN or infinite
+};
+
+/// "converged", "max_iterations", "line_search_failed" or "non_finite".
+const char* TerminationName(Termination termination);
+
+/// Options of SolveStrand.
+struct SolveOptions {
+  Method method = Method::kBfgs;
+  /// Iteration budget of one minimization (each stability restart gets its own).
+  int max_iterations = 1000;
+  /// Convergence tolerance on the dimensionless equilibrium residual (EquilibriumResidual).
+  double tolerance = 1e-9;
+  /// Check that the equilibrium is stable (positive definite Hessian) and, if it is not, leave it
+  /// along the most negative curvature direction and minimize again.
+  bool check_stability = true;
+  /// How many times an unstable equilibrium may be left and re-minimized.
+  int max_stability_restarts = 4;
+
+  /// True when every field is in range; otherwise says which and why.
+  bool IsValid(std::string* why) const;
+};
+
+/// What a solve did and where it ended. Numerical trouble is reported here, never hidden.
+struct SolveSummary {
+  Termination termination = Termination::kMaxIterations;
+  std::string message;           ///< one human sentence
+  int iterations = 0;            ///< minimizer iterations, all restarts included
+  int evaluations = 0;           ///< energy+gradient evaluations, stability check included
+  EnergyTerms energy;            ///< energy terms at the result (J)
+  double gradient_norm = 0.0;    ///< Euclidean norm of dE/dq at the result (J m)
+  double residual = 0.0;         ///< dimensionless equilibrium residual (EquilibriumResidual)
+  bool stability_checked = false;  ///< whether the Hessian test ran
+  bool stable = false;           ///< converged and the scaled Hessian is positive definite
+  double min_eigenvalue = 0.0;   ///< smallest eigenvalue of the stiffness-scaled Hessian (1 = no load)
+  int stability_restarts = 0;    ///< unstable equilibria left along negative curvature
+
+  bool Converged() const { return termination == Termination::kConverged; }
+};
+
+/// Curvatures at equilibrium and the summary of the solve.
+struct StrandSolution {
+  VecX curvatures;  ///< size 3n, (kappa1, kappa2, tau) per segment (1/m)
+  SolveSummary summary;
+};
+
+/// Finds a stable equilibrium of the strand by minimizing its potential energy, starting from the
+/// natural (gravity-free) shape or from initial_curvatures (a warm start, size 3n) when given.
+StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options = {},
+                           const VecX* initial_curvatures = nullptr);
+
+/// The dimensionless equilibrium residual of a configuration. The gradient of the energy with
+/// respect to segment i's curvatures is g_i = l_i K (Omega_i - Omega^0) - m_i, where m_i is the
+/// external moment integrated over the segment: g_i = 0 is Kirchhoff's moment balance averaged
+/// over the segment (with the moment-free tip built in). The residual is
+///   max_i |g_i| / (l_i M_ref),   M_ref = |f| L^2 / 2 + max_i |K (Omega_i - Omega^0)| + E I1 / L,
+/// the internal-moment mismatch relative to the largest moment in play (N m / N m).
+double EquilibriumResidual(const StrandModel& model, const VecX& curvatures,
+                           const VecX& gradient);
+
+/// Smallest eigenvalue of the Hessian in the stiffness-scaled variables x (dimensionless; 1 with
+/// no gravity, negative at an unstable equilibrium), from central differences of the exact
+/// gradient. If direction is not null it receives the matching eigenvector in curvature space.
+double MinScaledHessianEigenvalue(const StrandModel& model, const VecX& curvatures,
+                                  VecX* direction = nullptr);
+
+}  // namespace ringlet

@@ -1,0 +1,71 @@
+// The immutable description of one hair strand: a Kirchhoff rod clamped at its root (paper, section 2).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ringlet/cross_section.h"
+#include "ringlet/material.h"
+#include "ringlet/math.h"
+
+namespace ringlet {
+
+/// One inextensible, unshearable Kirchhoff rod of elliptic section, clamped at its root, divided
+/// into segments of constant curvature and twist (each an exact helix).
+///
+/// The unknowns of a strand are its curvatures: a vector q of size 3n with q[3i..3i+2] =
+/// (kappa1, kappa2, tau) of segment i in 1/m, in material coordinates (the paper's eq. 1, Omega =
+/// kappa1 n1 + kappa2 n2 + tau t). Segment 0 starts at the root.
+struct StrandModel {
+  /// Length of each segment, root to tip (m). Their sum is the strand length L.
+  std::vector<double> segment_lengths;
+  /// Elliptic section (semi-axes in m; the major axis lies along n1).
+  CrossSection section;
+  /// Elastic constants and density.
+  Material material;
+  /// Natural curvatures and twist (kappa1^0, kappa2^0, tau^0) in 1/m, the same on every segment.
+  Vec3 natural_curvature = Vec3::Zero();
+  /// Position of the root, r(0) (m).
+  Vec3 root_position = Vec3::Zero();
+  /// Material frame at the root, world_from_material: columns (n1, n2, t), a proper rotation.
+  Mat3 root_frame = Mat3::Identity();
+  /// Gravitational acceleration vector (m/s^2); the paper's g = 9.81 m/s^2 pointing down (-z).
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+
+  /// Number of segments n.
+  int NumSegments() const { return static_cast<int>(segment_lengths.size()); }
+  /// Length L, the sum of the segment lengths (m).
+  double Length() const;
+  /// Diagonal of the stiffness K = diag(E I1, E I2, mu J) (N m^2), the paper's eq. 3.
+  Vec3 Stiffness() const;
+  /// Weight per unit length f = rho S g (N/m), a vector along gravity.
+  Vec3 WeightPerLength() const;
+  /// Natural curvatures of all segments, the 3n-vector (kappa1^0, kappa2^0, tau^0, ...) (1/m).
+  VecX NaturalCurvatures() const;
+  /// Dimensionless load |f| L^3 / (E I1): the ratio of weight to bending stiffness in the soft
+  /// direction (Greenhill's self-buckling parameter; 7.8373 is the critical value).
+  double GravityParameter() const;
+};
+
+/// n segments of equal length L/n (m).
+std::vector<double> UniformSegments(double length, int segments);
+
+/// n segments whose lengths grow geometrically from root to tip, with last/first = ratio >= 1,
+/// summing to L. Short segments at the root resolve the bending boundary layer of heavy hair,
+/// whose width is about L / sqrt(w L^3 / EI). ratio = 1 gives uniform segments.
+std::vector<double> GradedSegments(double length, int segments, double ratio);
+
+/// The root frame (n1, n2, t) from a tangent and a normal (any lengths): t is normalized, n1 is the
+/// normal orthogonalized against t (Gram-Schmidt) and normalized, n2 = t x n1 so n1 x n2 = t.
+/// Returns false, with a reason, when the tangent is zero or not finite or when the normal is
+/// (nearly) parallel to the tangent.
+bool RootFrameFromTangentNormal(const Vec3& tangent, const Vec3& normal, Mat3* frame,
+                                std::string* why);
+
+/// Largest segment count a model may have; more is almost certainly a mistake in the input.
+inline constexpr int kMaxSegments = 100000;
+
+/// Checks every field (finite, positive lengths, valid section and material, proper rotation, ...).
+bool IsValid(const StrandModel& model, std::string* why);
+
+}  // namespace ringlet

@@ -1,0 +1,125 @@
+// Closed-form helical segments and their exact reverse-mode derivative (../shared/DESIGN.md,
+// "A helical segment in closed form"; the paper's eq. 1 with constant Omega on a segment).
+#include "ringlet/helix.h"
+
+#include <cmath>
+
+namespace ringlet {
+namespace {
+
+// Below this turning angle the G_m use their Taylor series. At x = 2 the series (alternating,
+// terms decreasing from the first) converges to rounding in kTaylorTerms terms, and the closed
+// forms above it lose at most about one digit to cancellation (G6 at x = 2).
+constexpr double kTaylorSwitch = 2.0;
+constexpr int kTaylorTerms = 12;
+
+// kCoefficients[m][k] = (-1)^k / (2k+m)!.
+struct TaylorTable {
+  double c[7][kTaylorTerms];
+  TaylorTable() {
+    for (int m = 1; m <= 6; ++m) {
+      for (int k = 0; k < kTaylorTerms; ++k) {
+        double factorial = 1.0;
+        for (int j = 2; j <= 2 * k + m; ++j) factorial *= j;
+        c[m][k] = (k % 2 == 0 ? 1.0 : -1.0) / factorial;
+      }
+    }
+  }
+};
+const TaylorTable kTaylor;
+
+}  // namespace
+
+HelixFunctions EvaluateHelixFunctions(double x) {
+  HelixFunctions h;
+  h.g[0] = 0.0;
+  const double y = x * x;
+  if (std::abs(x) < kTaylorSwitch) {
+    // Taylor series of G5 and G6 only (Horner in y = x^2, truncated where the next term is below
+    // 1e-17 relative), then the upward recurrence G_m = 1/m! - x^2 G_(m+2), which only adds
+    // (x^2 G_(m+2) < 1/m! here) and so keeps full precision while costing one FMA per function.
+    const int terms = y < 0.0625 ? 6 : y < 0.25 ? 7 : y < 1.0 ? 9 : kTaylorTerms;
+    for (int m = 5; m <= 6; ++m) {
+      double sum = kTaylor.c[m][terms - 1];
+      for (int k = terms - 2; k >= 0; --k) sum = sum * y + kTaylor.c[m][k];
+      h.g[m] = sum;
+    }
+    h.g[4] = 1.0 / 24.0 - y * h.g[6];
+    h.g[3] = 1.0 / 6.0 - y * h.g[5];
+    h.g[2] = 0.5 - y * h.g[4];
+    h.g[1] = 1.0 - y * h.g[3];
+    return h;
+  }
+  // Closed forms, then the downward recurrence G_(m+2) = (1/m! - G_m) / x^2.
+  h.g[1] = std::sin(x) / x;
+  h.g[2] = (1.0 - std::cos(x)) / y;
+  const double inv_factorial[5] = {1.0, 1.0, 0.5, 1.0 / 6.0, 1.0 / 24.0};
+  for (int m = 1; m <= 4; ++m) h.g[m + 2] = (inv_factorial[m] - h.g[m]) / y;
+  return h;
+}
+
+HelixSegment EvaluateHelixSegment(const Vec3& omega, double length) {
+  const double l = length;
+  const HelixFunctions h = EvaluateHelixFunctions(l * omega.norm());
+  HelixSegment s;
+  s.functions = h;
+  const Mat3 w = Hat(omega);
+  const Mat3 w2 = w * w;
+  const Vec3 e3(0.0, 0.0, 1.0);
+  // R = I + l G1 W + l^2 G2 W^2 (Rodrigues).
+  s.rotation = Mat3::Identity() + (l * h.g[1]) * w + (l * l * h.g[2]) * w2;
+  // p = (l I + l^2 G2 W + l^3 G3 W^2) e3, c = (l^2/2 I + l^3 G3 W + l^4 G4 W^2) e3.
+  const Vec3 we3 = w.col(2);
+  const Vec3 w2e3 = w2.col(2);
+  const double l2 = l * l, l3 = l2 * l, l4 = l3 * l;
+  s.chord = l * e3 + (l2 * h.g[2]) * we3 + (l3 * h.g[3]) * w2e3;
+  s.moment = (0.5 * l2) * e3 + (l3 * h.g[3]) * we3 + (l4 * h.g[4]) * w2e3;
+  return s;
+}
+
+Vec3 HelixSegmentVjp(const Vec3& omega, double length, const HelixFunctions& h,
+                     const Mat3& d_rotation, const Vec3& d_chord, const Vec3& d_moment) {
+  // Each of R, p, c is A e (e = I or e3) with A = a0 I + a1 W + a2 W^2, a1 = l^m G_m,
+  // a2 = l^(m+1) G_(m+1) (m = 1, 2, 3 for R, p, c). With X = dE/dA:
+  //   dE/dOmega = a1 Vee(X) + a2 Vee(X W^T + W^T X) + (da1 <X, W> + da2 <X, W^2>) Omega,
+  // using d[e_j]x-terms <X, [e_j]x> = Vee(X)_j and d(l^m G_m)/dOmega = l^(m+2) (G_m'/x) Omega,
+  // G_m'/x = m G_(m+2) - G_(m+1) (helix.h).
+  const double l = length;
+  const Mat3 w = Hat(omega);
+  const Mat3 w2 = w * w;
+  Mat3 x_mats[3];
+  x_mats[0] = d_rotation;
+  x_mats[1].setZero();
+  x_mats[1].col(2) = d_chord;
+  x_mats[2].setZero();
+  x_mats[2].col(2) = d_moment;
+
+  double lp[8];  // powers of l
+  lp[0] = 1.0;
+  for (int k = 1; k < 8; ++k) lp[k] = lp[k - 1] * l;
+
+  Mat3 y1 = Mat3::Zero();
+  Mat3 y2 = Mat3::Zero();
+  double s = 0.0;
+  for (int j = 0; j < 3; ++j) {
+    const int m = j + 1;
+    const double a1 = lp[m] * h.g[m];
+    const double a2 = lp[m + 1] * h.g[m + 1];
+    const double da1 = lp[m + 2] * (m * h.g[m + 2] - h.g[m + 1]);
+    const double da2 = lp[m + 3] * ((m + 1) * h.g[m + 3] - h.g[m + 2]);
+    const Mat3& x = x_mats[j];
+    y1 += a1 * x;
+    y2 += a2 * x;
+    s += da1 * (x.cwiseProduct(w)).sum() + da2 * (x.cwiseProduct(w2)).sum();
+  }
+  // W^T = -W.
+  return Vee(y1) - Vee(y2 * w + w * y2) + s * omega;
+}
+
+Vec3 HelixChord(const Vec3& omega, double u) { return EvaluateHelixSegment(omega, u).chord; }
+
+Mat3 HelixRotation(const Vec3& omega, double u) {
+  return EvaluateHelixSegment(omega, u).rotation;
+}
+
+}  // namespace ringlet

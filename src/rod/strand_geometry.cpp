@@ -1,0 +1,45 @@
+// Strand reconstruction from curvatures: products of closed-form helical segments.
+#include "ringlet/strand_geometry.h"
+
+#include <cassert>
+
+#include "ringlet/helix.h"
+
+namespace ringlet {
+
+StrandGeometry ComputeGeometry(const StrandModel& model, const VecX& curvatures) {
+  const int n = model.NumSegments();
+  assert(curvatures.size() == 3 * n);
+  StrandGeometry g;
+  g.points.resize(n + 1);
+  g.frames.resize(n + 1);
+  g.points[0] = model.root_position;
+  g.frames[0] = model.root_frame;
+  for (int i = 0; i < n; ++i) {
+    const HelixSegment s = EvaluateHelixSegment(curvatures.segment<3>(3 * i), model.segment_lengths[i]);
+    g.points[i + 1] = g.points[i] + g.frames[i] * s.chord;
+    g.frames[i + 1] = g.frames[i] * s.rotation;
+  }
+  return g;
+}
+
+std::vector<Vec3> SampleCentreline(const StrandModel& model, const VecX& curvatures,
+                                   int points_per_segment) {
+  assert(points_per_segment >= 1);
+  const int n = model.NumSegments();
+  const StrandGeometry g = ComputeGeometry(model, curvatures);
+  std::vector<Vec3> points;
+  points.reserve(static_cast<size_t>(n) * points_per_segment + 1);
+  for (int i = 0; i < n; ++i) {
+    const Vec3 omega = curvatures.segment<3>(3 * i);
+    points.push_back(g.points[i]);
+    for (int k = 1; k < points_per_segment; ++k) {
+      const double u = model.segment_lengths[i] * k / points_per_segment;
+      points.push_back(g.points[i] + g.frames[i] * HelixChord(omega, u));
+    }
+  }
+  points.push_back(g.points[n]);
+  return points;
+}
+
+}  // namespace ringlet
