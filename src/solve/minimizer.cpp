@@ -15,6 +15,48 @@ namespace {
 // part in scaled variables) so that the step is a descent direction (N&W eq. 3.41).
 constexpr double kNewtonMinEigenvalue = 1e-6;
 
+// The m most recent (s, y) pairs of L-BFGS and the two-loop recursion (N&W algorithm 7.4) with
+// H_0 = I: in stiffness-scaled variables the elastic Hessian is exactly I, so no gamma scaling.
+class LbfgsMemory {
+ public:
+  static constexpr int kPairs = 10;
+  explicit LbfgsMemory(int n) : s_(n, kPairs), y_(n, kPairs), rho_(kPairs), alpha_(kPairs) {}
+  void Clear() { count_ = 0; }
+  void Push(const VecX& s, const VecX& y) {
+    const double sy = s.dot(y);
+    if (!(sy > 1e-16 * s.norm() * y.norm())) return;  // curvature condition failed: skip
+    const int slot = (head_ + count_) % kPairs;
+    if (count_ < kPairs) {
+      ++count_;
+    } else {
+      head_ = (head_ + 1) % kPairs;
+    }
+    s_.col(slot) = s;
+    y_.col(slot) = y;
+    rho_(slot) = 1.0 / sy;
+  }
+  // out = H g.
+  void ApplyInverse(const VecX& g, VecX* out) {
+    VecX& q = *out;
+    q = g;
+    for (int k = count_ - 1; k >= 0; --k) {
+      const int j = (head_ + k) % kPairs;
+      alpha_(j) = rho_(j) * s_.col(j).dot(q);
+      q -= alpha_(j) * y_.col(j);
+    }
+    for (int k = 0; k < count_; ++k) {
+      const int j = (head_ + k) % kPairs;
+      const double beta = rho_(j) * y_.col(j).dot(q);
+      q += (alpha_(j) - beta) * s_.col(j);
+    }
+  }
+
+ private:
+  MatX s_, y_;
+  VecX rho_, alpha_;
+  int head_ = 0, count_ = 0;
+};
+
 }  // namespace
 
 MinimizerResult Minimize(Objective& objective, VecX* x, const MinimizerOptions& options) {
@@ -31,7 +73,11 @@ MinimizerResult Minimize(Objective& objective, VecX* x, const MinimizerOptions& 
   }
   result.residual = objective.Residual(*x, g);
 
-  MatX inverse_hessian = MatX::Identity(n, n);  // BFGS: H_0 = I in stiffness-scaled variables
+  const bool dense = options.method == Method::kBfgs;
+  const bool limited = options.method == Method::kLbfgs;
+  MatX inverse_hessian;  // dense BFGS: H_0 = I in stiffness-scaled variables
+  if (dense) inverse_hessian.setIdentity(n, n);
+  LbfgsMemory memory(limited ? n : 0);
   bool fresh = true;                            // H is the identity
   MatX hessian;
   LineSearchOptions ls_options;
@@ -54,6 +100,9 @@ MinimizerResult Minimize(Objective& objective, VecX* x, const MinimizerOptions& 
       Eigen::SelfAdjointEigenSolver<MatX> eig(hessian);
       VecX lambda = eig.eigenvalues().cwiseMax(kNewtonMinEigenvalue);
       p = -eig.eigenvectors() * ((eig.eigenvectors().transpose() * g).cwiseQuotient(lambda));
+    } else if (limited) {
+      memory.ApplyInverse(g, &p);
+      p = -p;
     } else {
       p.noalias() = -inverse_hessian * g;
     }
@@ -61,7 +110,8 @@ MinimizerResult Minimize(Objective& objective, VecX* x, const MinimizerOptions& 
     if (!(slope < 0.0)) {  // not a descent direction (rounding): fall back to steepest descent
       p = -g;
       slope = -g.squaredNorm();
-      inverse_hessian.setIdentity();
+      if (dense) inverse_hessian.setIdentity();
+      memory.Clear();
       fresh = true;
     }
 
@@ -83,9 +133,10 @@ MinimizerResult Minimize(Objective& objective, VecX* x, const MinimizerOptions& 
         StrongWolfeSearch(evaluate, at_zero, std::min(1.0, alpha_max), alpha_max, ls_options);
     result.evaluations += ls.evaluations;
     if (!ls.success) {
-      if (!fresh && options.method == Method::kBfgs) {
+      if (!fresh && options.method != Method::kNewton) {
         // Restart once from steepest descent before giving up.
-        inverse_hessian.setIdentity();
+        if (dense) inverse_hessian.setIdentity();
+        memory.Clear();
         fresh = true;
         --result.iterations;
         continue;
@@ -109,7 +160,10 @@ MinimizerResult Minimize(Objective& objective, VecX* x, const MinimizerOptions& 
     }
 
     // BFGS update of the inverse Hessian (N&W eq. 6.17); the Wolfe conditions give s.y > 0.
-    if (options.method == Method::kBfgs) {
+    if (limited) {
+      memory.Push(trial_x - *x, trial_g - g);
+      fresh = false;
+    } else if (dense) {
       step = trial_x - *x;
       y = trial_g - g;
       const double sy = step.dot(y);

@@ -25,7 +25,7 @@ class Objective {
 };
 
 struct MinimizerOptions {
-  Method method = Method::kBfgs;
+  Method method = Method::kLbfgs;
   int max_iterations = 1000;
   double tolerance = 1e-9;
 };
