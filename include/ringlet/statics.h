@@ -59,7 +59,10 @@ struct SolveSummary {
   double residual = 0.0;         ///< dimensionless equilibrium residual (EquilibriumResidual)
   bool stability_checked = false;  ///< whether the Hessian test ran
   bool stable = false;           ///< converged and the scaled Hessian is positive definite
-  double min_eigenvalue = 0.0;   ///< smallest eigenvalue of the stiffness-scaled Hessian (1 = no load)
+  /// Smallest eigenvalue of the stiffness-scaled Hessian (1 = no load). When the Hessian is
+  /// positive definite (certified by Cholesky) this is an inverse-iteration estimate, slightly
+  /// above the true value; when it is not, the exact eigenvalue.
+  double min_eigenvalue = 0.0;
   int stability_restarts = 0;    ///< unstable equilibria left along negative curvature
 
   bool Converged() const { return termination == Termination::kConverged; }
@@ -87,7 +90,8 @@ double EquilibriumResidual(const StrandModel& model, const VecX& curvatures,
 
 /// Smallest eigenvalue of the Hessian in the stiffness-scaled variables x (dimensionless; 1 with
 /// no gravity, negative at an unstable equilibrium), from central differences of the exact
-/// gradient. If direction is not null it receives the matching eigenvector in curvature space.
+/// gradient (see SolveSummary::min_eigenvalue for its accuracy). If direction is not null it
+/// receives the matching eigenvector in curvature space.
 double MinScaledHessianEigenvalue(const StrandModel& model, const VecX& curvatures,
                                   VecX* direction = nullptr);
 
