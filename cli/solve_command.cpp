@@ -1,1 +1,178 @@
+// `ringlet solve SCENE.json -o RESULT.json`: the static equilibrium of every strand of a scene,
+// written as JSON (docs/scene-format.md), with a short human summary on stdout.
+//
+// Exit codes: 0 all strands converged (and are stable when checked), 2 some did not (the results
+// are still written and the summary says which), 1 bad usage or input (nothing is written).
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <system_error>
+#include <vector>
 
+#include "commands.h"
+#include "ringlet/atomic_file.h"
+#include "ringlet/result_json.h"
+#include "ringlet/scene_json.h"
+#include "ringlet/statics.h"
+
+namespace ringlet::cli {
+namespace {
+
+// More centreline samples per segment than this is almost certainly a typo.
+constexpr int kMaxPointsPerSegment = 1000;
+// The warning of an unsuccessful solve lists at most this many strands.
+constexpr int kMaxListedStrands = 5;
+
+struct SolveArgs {
+  std::string scene_path;
+  std::string output_path;
+  int points_per_segment = 1;
+  bool force = false;
+  bool quiet = false;
+};
+
+// printf into a std::string.
+template <typename... Args>
+std::string Format(const char* format, Args... args) {
+  const int size = std::snprintf(nullptr, 0, format, args...);
+  if (size <= 0) return {};
+  std::string text(static_cast<size_t>(size) + 1, '\0');
+  std::snprintf(text.data(), text.size(), format, args...);
+  text.pop_back();
+  return text;
+}
+
+// "0.4 ms" below a second, "1.23 s" above.
+std::string FormatSeconds(double seconds) {
+  return seconds < 1.0 ? Format("%.1f ms", seconds * 1e3) : Format("%.2f s", seconds);
+}
+
+// The output must not be the scene itself, nor a directory, nor (without --force) an existing
+// file: nothing the user had is overwritten silently. Checked before solving so that the user
+// does not wait for an error.
+bool CheckOutput(const SolveArgs& args, std::string* error) {
+  namespace fs = std::filesystem;
+  if (args.output_path.empty()) {
+    *error = "--output: expected a file name, got an empty string";
+    return false;
+  }
+  std::error_code ec;
+  const fs::file_status status = fs::status(args.output_path, ec);
+  if (!fs::exists(status)) return true;
+  if (fs::equivalent(args.scene_path, args.output_path, ec) && !ec) {
+    *error = args.output_path + ": is the scene file itself; choose another output";
+    return false;
+  }
+  if (fs::is_directory(status)) {
+    *error = args.output_path + ": is a directory; give a file name to --output";
+    return false;
+  }
+  if (!args.force) {
+    *error = args.output_path + ": already exists (use --force to overwrite it)";
+    return false;
+  }
+  return true;
+}
+
+// "strand 0: converged, stable, 57 iterations, tip (0.0934, 0, -0.0312) m, energy ... J, ..."
+std::string StrandLine(int index, const StrandResult& result) {
+  const SolveSummary& s = result.summary;
+  const char* stability = !s.stability_checked ? "stability not checked"
+                          : s.stable           ? "stable"
+                                               : "UNSTABLE";
+  const Vec3& tip = result.points.back();
+  return Format(
+      "strand %d: %s, %s, %d iterations, tip (%.6g, %.6g, %.6g) m, energy %.6g J, "
+      "residual %.2g",
+      index, TerminationName(s.termination), stability, s.iterations, tip.x(), tip.y(), tip.z(),
+      s.energy.total, s.residual);
+}
+
+int RunSolve(const SolveArgs& args) {
+  // Input first, then the output path, then the work.
+  Scene scene;
+  std::string error;
+  if (!LoadScene(args.scene_path, &scene, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  if (!CheckOutput(args, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+
+  // Strands are independent: solve them one after the other, in file order.
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<StrandResult> results;
+  results.reserve(scene.strands.size());
+  for (const StrandModel& model : scene.strands) {
+    const StrandSolution solution = SolveStrand(model, scene.solver);
+    results.push_back(MakeStrandResult(model, solution, args.points_per_segment));
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (!WriteFileAtomically(args.output_path, ResultToString(results, seconds), args.force,
+                           &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+
+  const ResultCounts counts = CountResults(results);
+  if (!args.quiet) {
+    for (size_t i = 0; i < results.size(); ++i) {
+      std::printf("%s\n", StrandLine(static_cast<int>(i), results[i]).c_str());
+    }
+    std::printf("solved %d strand%s: %d converged, %d stable, %s -> %s\n", counts.strands,
+                counts.strands == 1 ? "" : "s", counts.converged, counts.stable,
+                FormatSeconds(seconds).c_str(), args.output_path.c_str());
+    std::fflush(stdout);
+  }
+  if (counts.succeeded == counts.strands) return kExitSuccess;
+
+  if (!args.quiet) {
+    std::string listed;
+    int shown = 0;
+    for (size_t i = 0; i < results.size() && shown < kMaxListedStrands; ++i) {
+      if (results[i].Succeeded()) continue;
+      const SolveSummary& s = results[i].summary;
+      listed += Format("%sstrand %d %s", shown == 0 ? "" : ", ", static_cast<int>(i),
+                       s.Converged() ? "unstable" : TerminationName(s.termination));
+      ++shown;
+    }
+    if (counts.strands - counts.succeeded > shown) listed += ", ...";
+    PrintWarning(
+        Format("%d of %d strands did not reach a stable equilibrium (%s); results "
+               "written to %s",
+               counts.strands - counts.succeeded, counts.strands, listed.c_str(),
+               args.output_path.c_str()));
+  }
+  return kExitUnsolved;
+}
+
+}  // namespace
+
+Command AddSolveCommand(CLI::App* parent) {
+  auto args = std::make_shared<SolveArgs>();
+  CLI::App* app = parent->add_subcommand(
+      "solve",
+      "Find the static equilibrium of every strand of a scene and write it as JSON. Exit code 0 "
+      "when every strand converged to a stable equilibrium, 2 when some did not (results are "
+      "still written), 1 on bad usage or input (nothing is written).");
+  app->add_option("scene", args->scene_path, "Scene file (JSON, see docs/scene-format.md)")
+      ->required();
+  app->add_option("-o,--output", args->output_path, "Result file to write (JSON)")->required();
+  app->add_option("--points-per-segment", args->points_per_segment,
+                  "Centreline samples per segment in the result: n k + 1 points (default 1: the "
+                  "segment ends)")
+      ->check(CLI::Range(1, kMaxPointsPerSegment));
+  app->add_flag("--force", args->force, "Overwrite the output file if it exists");
+  app->add_flag("-q,--quiet", args->quiet,
+                "Print no summary or warning (errors still go to stderr)");
+  return Command{app, [args] { return RunSolve(*args); }};
+}
+
+}  // namespace ringlet::cli

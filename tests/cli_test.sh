@@ -1,1 +1,321 @@
-exit 0
+#!/usr/bin/env bash
+# The command-line contract of `ringlet solve` (docs/scene-format.md): the examples solve and
+# write every documented key, --points-per-segment, --force and --quiet behave, existing files
+# are never overwritten silently, and every bad scene gives exit code 1, exactly one line on
+# stderr naming the field, and no file at all (neither output nor temporary).
+#
+# Needs RINGLET (the built binary) and EXAMPLES (the examples/ directory); run by ctest as
+# `cli_contract`. Exits non-zero if any check failed, after printing what failed.
+set -u
+
+: "${RINGLET:?set RINGLET to the ringlet binary}"
+: "${EXAMPLES:?set EXAMPLES to the examples directory}"
+PYTHON=/usr/bin/python3
+
+work=$(mktemp -d "${TMPDIR:-/tmp}/ringlet_cli_test.XXXXXX") || exit 1
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$work/out" "$work/scenes" "$work/bad_out"
+
+checks=0
+failures=0
+fail() {
+  echo "FAIL: $*" >&2
+  failures=$((failures + 1))
+}
+ok() { checks=$((checks + 1)); }
+
+# run ARGS...: runs the binary; sets $rc and leaves stdout and stderr in $work/stdout, stderr.
+run() {
+  "$RINGLET" "$@" >"$work/stdout" 2>"$work/stderr"
+  rc=$?
+}
+
+# Line count of a file (0 for an empty file; a last line without newline counts).
+lines() { awk 'END { print NR }' "$1"; }
+
+expect_rc() {  # expect_rc WHAT EXPECTED
+  if [ "$rc" -eq "$2" ]; then ok; else
+    fail "$1: exit code $rc, expected $2 (stderr: $(head -c 300 "$work/stderr"))"
+  fi
+}
+
+expect_one_error_line() {  # expect_one_error_line WHAT SUBSTRING
+  local n
+  n=$(lines "$work/stderr")
+  if [ "$n" -eq 1 ]; then ok; else
+    fail "$1: $n lines on stderr, expected exactly 1: $(cat "$work/stderr")"
+  fi
+  if grep -q '^ringlet: error: ' "$work/stderr"; then ok; else
+    fail "$1: stderr does not start with 'ringlet: error: ': $(cat "$work/stderr")"
+  fi
+  if grep -qF -- "$2" "$work/stderr"; then ok; else
+    fail "$1: stderr does not mention '$2': $(cat "$work/stderr")"
+  fi
+}
+
+expect_empty_dir() {  # expect_empty_dir WHAT DIR
+  if [ -z "$(ls -A "$2")" ]; then ok; else
+    fail "$1: files left in $2: $(ls -A "$2" | tr '\n' ' ')"
+    rm -rf "${2:?}"/* "${2:?}"/.[!.]*
+  fi
+}
+
+# Checks a result file: the documented keys, n k + 1 points, n curvature triples, summary counts
+# consistent with the strands, and (with EXPECT=solved) every strand converged and stable.
+check_result() {  # check_result WHAT FILE POINTS_PER_SEGMENT EXPECT(solved|any) [STRANDS]
+  if "$PYTHON" - "$2" "$3" "$4" "${5:-0}" <<'EOF' >"$work/check" 2>&1; then ok; else
+import json, sys
+path, k, expect, want_strands = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
+d = json.load(open(path))
+errors = []
+for key in ("strands", "summary", "units"):
+    if key not in d:
+        errors.append("missing top-level key " + key)
+strands = d.get("strands", [])
+if want_strands and len(strands) != want_strands:
+    errors.append("%d strands, expected %d" % (len(strands), want_strands))
+keys = ("points", "curvatures", "segment_lengths", "energy", "gradient_norm", "residual",
+        "iterations", "evaluations", "termination", "stable", "min_hessian_eigenvalue",
+        "stability_restarts", "message")
+for i, s in enumerate(strands):
+    missing = [key for key in keys if key not in s]
+    if missing:
+        errors.append("strands[%d] lacks %s" % (i, ", ".join(missing)))
+        continue
+    n = len(s["segment_lengths"])
+    if len(s["points"]) != n * k + 1:
+        errors.append("strands[%d]: %d points, expected n k + 1 = %d" % (i, len(s["points"]), n * k + 1))
+    if len(s["curvatures"]) != n or any(len(c) != 3 for c in s["curvatures"]):
+        errors.append("strands[%d]: curvatures are not n = %d triples" % (i, n))
+    if any(len(p) != 3 for p in s["points"]):
+        errors.append("strands[%d]: a point is not a triple" % i)
+    for key in ("elastic", "gravity", "total"):
+        if key not in s["energy"]:
+            errors.append("strands[%d].energy lacks %s" % (i, key))
+    if s["termination"] not in ("converged", "max_iterations", "line_search_failed", "non_finite"):
+        errors.append("strands[%d]: unknown termination %r" % (i, s["termination"]))
+    if expect == "solved" and (s["termination"] != "converged" or s["stable"] is not True):
+        errors.append("strands[%d]: %s, stable=%s: %s" % (i, s["termination"], s["stable"], s["message"]))
+summary = d.get("summary", {})
+for key in ("strands", "converged", "stable", "seconds"):
+    if key not in summary:
+        errors.append("summary lacks " + key)
+if summary.get("strands") != len(strands):
+    errors.append("summary.strands = %r, file has %d" % (summary.get("strands"), len(strands)))
+if summary.get("converged") != sum(s.get("termination") == "converged" for s in strands):
+    errors.append("summary.converged does not count the converged strands")
+if summary.get("stable") != sum(s.get("stable") is True for s in strands):
+    errors.append("summary.stable does not count the stable strands")
+if errors:
+    print("; ".join(errors))
+    sys.exit(1)
+EOF
+    fail "$1: $(cat "$work/check")"
+  fi
+}
+
+# --------------------------------------------------------------------------------------------
+# The examples solve, converge and are stable; the summary is on stdout, nothing on stderr.
+for name in horizontal_10cm vertical_curly strands; do
+  out="$work/out/$name.json"
+  run solve "$EXAMPLES/$name.json" -o "$out"
+  expect_rc "solve $name" 0
+  [ -s "$work/stderr" ] && fail "solve $name: unexpected stderr: $(cat "$work/stderr")" || ok
+  grep -q '^solved [0-9]* strands\{0,1\}: ' "$work/stdout" && ok ||
+    fail "solve $name: no total line on stdout: $(cat "$work/stdout")"
+  grep -q '^strand 0: converged, stable' "$work/stdout" && ok ||
+    fail "solve $name: no line for strand 0 on stdout: $(cat "$work/stdout")"
+  [ -f "$out" ] && check_result "solve $name" "$out" 1 solved || fail "solve $name: no output"
+done
+check_result "strands.json has several strands" "$work/out/strands.json" 1 solved 5
+check_result "horizontal_10cm.json has one strand" "$work/out/horizontal_10cm.json" 1 solved 1
+
+# --points-per-segment k gives n k + 1 points.
+for k in 1 4; do
+  run solve "$EXAMPLES/vertical_curly.json" -o "$work/out/curly_k$k.json" --points-per-segment "$k"
+  expect_rc "--points-per-segment $k" 0
+  check_result "--points-per-segment $k" "$work/out/curly_k$k.json" "$k" solved
+done
+
+# --quiet prints nothing on success.
+run solve "$EXAMPLES/horizontal_10cm.json" -o "$work/out/quiet.json" --quiet
+expect_rc "--quiet" 0
+[ -s "$work/stdout" ] || [ -s "$work/stderr" ] && fail "--quiet printed: $(cat "$work/stdout" "$work/stderr")" || ok
+
+# An existing output is refused and untouched without --force, replaced with it.
+existing="$work/out/existing.json"
+echo "precious" >"$existing"
+run solve "$EXAMPLES/horizontal_10cm.json" -o "$existing"
+expect_rc "existing output without --force" 1
+expect_one_error_line "existing output without --force" "already exists"
+[ "$(cat "$existing")" = "precious" ] && ok || fail "existing output was modified without --force"
+run solve "$EXAMPLES/horizontal_10cm.json" -o "$existing" --force
+expect_rc "existing output with --force" 0
+check_result "existing output with --force" "$existing" 1 solved 1
+
+# The output may not be the scene itself, even with --force.
+cp "$EXAMPLES/horizontal_10cm.json" "$work/scenes/self.json"
+for force in "" "--force"; do
+  run solve "$work/scenes/self.json" -o "$work/scenes/self.json" $force
+  expect_rc "output = input $force" 1
+  expect_one_error_line "output = input $force" "scene file"
+  cmp -s "$EXAMPLES/horizontal_10cm.json" "$work/scenes/self.json" && ok ||
+    fail "output = input $force: the scene was modified"
+done
+
+# A strand that does not converge: exit 2, results still written, the summary says so.
+cat >"$work/scenes/budget.json" <<'EOF'
+{"strands": [{"length": 0.3, "root": {"position": [0, 0, 0], "tangent": [1, 0, 0], "normal": [0, 0, 1]}}],
+ "solver": {"max_iterations": 1}}
+EOF
+run solve "$work/scenes/budget.json" -o "$work/out/budget.json"
+expect_rc "non-converged strand" 2
+check_result "non-converged strand" "$work/out/budget.json" 1 any 1
+grep -q '"termination": "max_iterations"' "$work/out/budget.json" && ok ||
+  fail "non-converged strand: termination is not max_iterations"
+grep -q '^solved 1 strand: 0 converged' "$work/stdout" && ok ||
+  fail "non-converged strand: total line does not say so: $(cat "$work/stdout")"
+
+# A write that fails (missing directory) is exit 1 and leaves nothing.
+run solve "$EXAMPLES/horizontal_10cm.json" -o "$work/bad_out/missing/out.json"
+expect_rc "output in a missing directory" 1
+expect_one_error_line "output in a missing directory" "missing/out.json"
+expect_empty_dir "output in a missing directory" "$work/bad_out"
+
+# --------------------------------------------------------------------------------------------
+# Usage.
+run --version
+expect_rc "--version" 0
+grep -q '^ringlet [0-9]' "$work/stdout" && ok || fail "--version printed: $(cat "$work/stdout")"
+run --help
+expect_rc "--help" 0
+grep -q 'solve' "$work/stdout" && ok || fail "--help does not list solve"
+run solve --help
+expect_rc "solve --help" 0
+for option in --output --points-per-segment --force --quiet; do
+  grep -q -- "$option" "$work/stdout" && ok || fail "solve --help does not mention $option"
+done
+
+run
+expect_rc "no command" 1
+expect_one_error_line "no command" "subcommand"
+run frobnicate
+expect_rc "unknown command" 1
+expect_one_error_line "unknown command" "frobnicate"
+run solve "$EXAMPLES/horizontal_10cm.json"
+expect_rc "missing --output" 1
+expect_one_error_line "missing --output" "--output"
+for k in 0 -1 1.5 x; do
+  run solve "$EXAMPLES/horizontal_10cm.json" -o "$work/bad_out/k.json" --points-per-segment "$k"
+  expect_rc "--points-per-segment $k" 1
+  expect_one_error_line "--points-per-segment $k" "--points-per-segment"
+  expect_empty_dir "--points-per-segment $k" "$work/bad_out"
+done
+
+# --------------------------------------------------------------------------------------------
+# Bad scenes: exit 1, one line on stderr naming the field, nothing written.
+
+# bad NAME FIELD < scene: writes the scene from stdin and checks the contract on it.
+bad() {
+  local name=$1 field=$2 scene="$work/scenes/$1.json"
+  cat >"$scene"
+  run solve "$scene" -o "$work/bad_out/$name.json"
+  expect_rc "bad scene $name" 1
+  expect_one_error_line "bad scene $name" "$field"
+  [ -s "$work/stdout" ] && fail "bad scene $name: printed on stdout: $(cat "$work/stdout")" || ok
+  expect_empty_dir "bad scene $name" "$work/bad_out"
+}
+
+ROOT='"root": {"position": [0, 0, 0], "tangent": [1, 0, 0], "normal": [0, 0, 1]}'
+
+bad missing_length 'strands[0].length' <<EOF
+{"strands": [{$ROOT}]}
+EOF
+bad unknown_field 'strands[0].lenght' <<EOF
+{"strands": [{"lenght": 0.1, "length": 0.1, $ROOT}]}
+EOF
+bad unknown_top_level_field 'gravty' <<EOF
+{"gravty": [0, 0, -9.81], "strands": [{"length": 0.1, $ROOT}]}
+EOF
+bad wrong_type 'strands[0].length' <<EOF
+{"strands": [{"length": "10 cm", $ROOT}]}
+EOF
+bad non_finite_length 'strands[0].length' <<EOF
+{"strands": [{"length": 1e999, $ROOT}]}
+EOF
+bad zero_length 'strands[0].length' <<EOF
+{"strands": [{"length": 0, $ROOT}]}
+EOF
+bad negative_radius 'strands[1].radius' <<EOF
+{"strands": [{"length": 0.1, $ROOT}, {"length": 0.1, "radius": -1, $ROOT}]}
+EOF
+bad zero_modulus 'strands[0].young_modulus' <<EOF
+{"strands": [{"length": 0.1, "young_modulus": 0, $ROOT}]}
+EOF
+bad eccentricity_one 'strands[0].eccentricity' <<EOF
+{"strands": [{"length": 0.1, "eccentricity": 1, $ROOT}]}
+EOF
+bad ellipticity_below_one 'strands[0].ellipticity' <<EOF
+{"strands": [{"length": 0.1, "ellipticity": 0.8, $ROOT}]}
+EOF
+bad eccentricity_and_ellipticity 'strands[0].ellipticity' <<EOF
+{"strands": [{"length": 0.1, "eccentricity": 0.3, "ellipticity": 1.2, $ROOT}]}
+EOF
+bad zero_tangent 'strands[0].root.tangent' <<'EOF'
+{"strands": [{"length": 0.1, "root": {"position": [0, 0, 0], "tangent": [0, 0, 0], "normal": [0, 0, 1]}}]}
+EOF
+bad parallel_normal 'strands[0].root.normal' <<'EOF'
+{"strands": [{"length": 0.1, "root": {"position": [0, 0, 0], "tangent": [0, 0, -1], "normal": [0, 0, 2]}}]}
+EOF
+bad missing_root 'strands[0].root' <<'EOF'
+{"strands": [{"length": 0.1}]}
+EOF
+bad zero_segments 'strands[0].segments' <<EOF
+{"strands": [{"length": 0.1, "segments": 0, $ROOT}]}
+EOF
+bad too_many_segments 'strands[0].segments' <<EOF
+{"strands": [{"length": 0.1, "segments": 100000000, $ROOT}]}
+EOF
+bad fractional_segments 'strands[0].segments' <<EOF
+{"strands": [{"length": 0.1, "segments": 2.5, $ROOT}]}
+EOF
+bad empty_strands 'strands' <<'EOF'
+{"strands": []}
+EOF
+bad segment_lengths_sum 'strands[0].segment_lengths' <<EOF
+{"strands": [{"length": 0.1, "segment_lengths": [0.05, 0.04], $ROOT}]}
+EOF
+bad segment_lengths_and_grading 'strands[0].grading' <<EOF
+{"strands": [{"length": 0.1, "segment_lengths": [0.05, 0.05], "grading": 2, $ROOT}]}
+EOF
+bad bad_method 'solver.method' <<EOF
+{"strands": [{"length": 0.1, $ROOT}], "solver": {"method": "gradient_descent"}}
+EOF
+bad duplicate_field 'strands[0].length' <<EOF
+{"strands": [{"length": 0.1, "length": 0.2, $ROOT}]}
+EOF
+bad invalid_json 'line 3, column' <<'EOF'
+{
+  "strands": [
+    {"length": 0.1,, }
+  ]
+}
+EOF
+bad empty_file 'line 1, column 1' </dev/null
+
+# An unreadable scene (missing file, directory) is the same: one line, exit 1, nothing written.
+run solve "$work/scenes/does_not_exist.json" -o "$work/bad_out/x.json"
+expect_rc "missing scene file" 1
+expect_one_error_line "missing scene file" "does_not_exist.json"
+expect_empty_dir "missing scene file" "$work/bad_out"
+run solve "$work/scenes" -o "$work/bad_out/x.json"
+expect_rc "scene is a directory" 1
+expect_one_error_line "scene is a directory" "directory"
+expect_empty_dir "scene is a directory" "$work/bad_out"
+
+# --------------------------------------------------------------------------------------------
+if [ "$failures" -ne 0 ]; then
+  echo "cli_test: $failures of $((checks + failures)) checks FAILED" >&2
+  exit 1
+fi
+echo "cli_test: all $checks checks passed"

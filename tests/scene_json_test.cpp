@@ -1,1 +1,762 @@
+// Scene files (defaults, sections, root frames, every bad input), result files (keys, precision,
+// non-finite values) and atomic writes: src/io/.
+#include "ringlet/scene_json.h"
+
 #include <gtest/gtest.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ringlet/atomic_file.h"
+#include "ringlet/result_json.h"
+#include "ringlet/statics.h"
+#include "ringlet/strand_model.h"
+
+namespace ringlet {
+namespace {
+
+using nlohmann::json;
+
+// A valid scene with one horizontal 10-cm strand and nothing but the required fields.
+json MinimalScene() {
+  return json::parse(R"({
+    "strands": [{
+      "length": 0.1,
+      "root": {"position": [0, 0, 0], "tangent": [1, 0, 0], "normal": [0, 0, 1]}
+    }]
+  })");
+}
+
+// Parses document, expecting success.
+Scene MustParse(const json& document) {
+  Scene scene;
+  std::string error;
+  EXPECT_TRUE(ParseScene(document, &scene, &error)) << error;
+  return scene;
+}
+
+// A fresh empty directory for file tests, removed by the destructor.
+class TempDirectory {
+ public:
+  TempDirectory() {
+    std::string pattern = ::testing::TempDir() + "ringlet_io_XXXXXX";
+    path_ = ::mkdtemp(pattern.data()) ? pattern : std::string();
+  }
+  ~TempDirectory() {
+    std::error_code ec;
+    if (!path_.empty()) std::filesystem::remove_all(path_, ec);
+  }
+  const std::string& path() const { return path_; }
+  // Names of the entries in the directory, hidden ones included.
+  std::vector<std::string> Entries() const {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(path_)) {
+      names.push_back(entry.path().filename().string());
+    }
+    return names;
+  }
+
+ private:
+  std::string path_;
+};
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene parsing: defaults and fields.
+
+TEST(SceneJson, DefaultsAreThePapers) {
+  const Scene scene = MustParse(MinimalScene());
+  ASSERT_EQ(scene.strands.size(), 1u);
+  const StrandModel& m = scene.strands[0];
+  // 15 equal segments summing to the length.
+  EXPECT_EQ(kDefaultSegments, 15);
+  ASSERT_EQ(m.NumSegments(), 15);
+  for (double l : m.segment_lengths) EXPECT_DOUBLE_EQ(l, 0.1 / 15);
+  EXPECT_NEAR(m.Length(), 0.1, 1e-15);
+  // Circular section of radius 50 um.
+  EXPECT_DOUBLE_EQ(m.section.a, 50e-6);
+  EXPECT_DOUBLE_EQ(m.section.b, 50e-6);
+  // Material: E = 10 GPa, sigma = 0.3, rho = 1300 kg/m^3.
+  EXPECT_DOUBLE_EQ(m.material.young_modulus, 10e9);
+  EXPECT_DOUBLE_EQ(m.material.poisson_ratio, 0.3);
+  EXPECT_DOUBLE_EQ(m.material.density, 1300.0);
+  // Straight at rest, no twist; gravity 9.81 m/s^2 down.
+  EXPECT_EQ(m.natural_curvature, Vec3::Zero());
+  EXPECT_EQ(m.gravity, Vec3(0.0, 0.0, -9.81));
+  // Root as given.
+  EXPECT_EQ(m.root_position, Vec3::Zero());
+  EXPECT_TRUE(m.root_frame.col(2).isApprox(Vec3(1, 0, 0)));
+  EXPECT_TRUE(m.root_frame.col(0).isApprox(Vec3(0, 0, 1)));
+  // Solver: SolveOptions' own defaults.
+  const SolveOptions defaults;
+  EXPECT_EQ(scene.solver.method, defaults.method);
+  EXPECT_EQ(scene.solver.tolerance, defaults.tolerance);
+  EXPECT_EQ(scene.solver.max_iterations, defaults.max_iterations);
+  EXPECT_EQ(scene.solver.check_stability, defaults.check_stability);
+  EXPECT_EQ(scene.solver.max_stability_restarts, defaults.max_stability_restarts);
+}
+
+TEST(SceneJson, EveryFieldIsRead) {
+  json d = MinimalScene();
+  d["gravity"] = {1.0, 2.0, -3.0};
+  json& s = d["strands"][0];
+  s["segments"] = 7;
+  s["radius"] = 40e-6;
+  s["young_modulus"] = 3e9;
+  s["poisson_ratio"] = 0.25;
+  s["density"] = 1100;
+  s["natural_curvature"] = {50.0, -2.0};
+  s["natural_twist"] = 10.0;
+  s["root"]["position"] = {0.1, 0.2, 0.3};
+  d["solver"] = {{"method", "newton"},
+                 {"tolerance", 1e-7},
+                 {"max_iterations", 33},
+                 {"check_stability", false}};
+  const Scene scene = MustParse(d);
+  const StrandModel& m = scene.strands[0];
+  EXPECT_EQ(m.NumSegments(), 7);
+  EXPECT_DOUBLE_EQ(m.section.MeanRadius(), 40e-6);
+  EXPECT_EQ(m.material.young_modulus, 3e9);
+  EXPECT_EQ(m.material.poisson_ratio, 0.25);
+  EXPECT_EQ(m.material.density, 1100.0);
+  EXPECT_EQ(m.natural_curvature, Vec3(50.0, -2.0, 10.0));
+  EXPECT_EQ(m.gravity, Vec3(1.0, 2.0, -3.0));
+  EXPECT_EQ(m.root_position, Vec3(0.1, 0.2, 0.3));
+  EXPECT_EQ(scene.solver.method, Method::kNewton);
+  EXPECT_EQ(scene.solver.tolerance, 1e-7);
+  EXPECT_EQ(scene.solver.max_iterations, 33);
+  EXPECT_FALSE(scene.solver.check_stability);
+}
+
+TEST(SceneJson, IntegralFloatSegmentsAreIntegers) {
+  json d = MinimalScene();
+  d["strands"][0]["segments"] = 12.0;
+  EXPECT_EQ(MustParse(d).strands[0].NumSegments(), 12);
+}
+
+TEST(SceneJson, EveryMethodNameRoundTrips) {
+  for (const Method method : {Method::kBfgs, Method::kLbfgs, Method::kNewton}) {
+    json d = MinimalScene();
+    d["solver"]["method"] = MethodName(method);
+    EXPECT_EQ(MustParse(d).solver.method, method) << MethodName(method);
+  }
+}
+
+TEST(SceneJson, EccentricityKeepsTheMeanRadius) {
+  json d = MinimalScene();
+  d["strands"][0]["eccentricity"] = 0.6;
+  const CrossSection c = MustParse(d).strands[0].section;
+  EXPECT_NEAR(c.Eccentricity(), 0.6, 1e-12);
+  EXPECT_NEAR(c.a * c.b, 50e-6 * 50e-6, 1e-22);
+  EXPECT_GT(c.a, c.b);
+}
+
+TEST(SceneJson, EllipticityIsTheRatioOfSemiAxes) {
+  json d = MinimalScene();
+  d["strands"][0]["ellipticity"] = 1.5;
+  d["strands"][0]["radius"] = 30e-6;
+  const CrossSection c = MustParse(d).strands[0].section;
+  EXPECT_NEAR(c.a / c.b, 1.5, 1e-12);
+  EXPECT_NEAR(c.a * c.b, 30e-6 * 30e-6, 1e-22);
+}
+
+TEST(SceneJson, NormalIsOrthogonalizedAgainstTheTangent) {
+  json d = MinimalScene();
+  d["strands"][0]["root"]["tangent"] = {2.0, 0.0, 0.0};  // any length
+  d["strands"][0]["root"]["normal"] = {1.0, 0.0, 3.0};   // not orthogonal, not unit
+  const Mat3 q = MustParse(d).strands[0].root_frame;
+  EXPECT_TRUE(q.col(2).isApprox(Vec3(1, 0, 0), 1e-15));   // t
+  EXPECT_TRUE(q.col(0).isApprox(Vec3(0, 0, 1), 1e-15));   // n1: the normal minus its t part
+  EXPECT_TRUE(q.col(1).isApprox(Vec3(0, -1, 0), 1e-15));  // n2 = t x n1
+  EXPECT_TRUE((q.transpose() * q).isApprox(Mat3::Identity(), 1e-15));
+  EXPECT_NEAR(q.determinant(), 1.0, 1e-15);
+}
+
+TEST(SceneJson, GradingGrowsSegmentsTowardsTheTip) {
+  json d = MinimalScene();
+  d["strands"][0]["length"] = 0.4;
+  d["strands"][0]["segments"] = 40;
+  d["strands"][0]["grading"] = 8.0;
+  const StrandModel m = MustParse(d).strands[0];
+  ASSERT_EQ(m.NumSegments(), 40);
+  EXPECT_NEAR(m.segment_lengths.back() / m.segment_lengths.front(), 8.0, 1e-9);
+  EXPECT_NEAR(m.Length(), 0.4, 1e-15);
+  for (int i = 1; i < 40; ++i) EXPECT_GT(m.segment_lengths[i], m.segment_lengths[i - 1]);
+}
+
+TEST(SceneJson, ExplicitSegmentLengthsAreKept) {
+  json d = MinimalScene();
+  d["strands"][0]["segment_lengths"] = {0.01, 0.02, 0.03, 0.04};
+  d["strands"][0]["segments"] = 4;  // allowed when it matches
+  const StrandModel m = MustParse(d).strands[0];
+  EXPECT_EQ(m.segment_lengths, (std::vector<double>{0.01, 0.02, 0.03, 0.04}));
+  // Without "segments" the count comes from the list.
+  d["strands"][0].erase("segments");
+  EXPECT_EQ(MustParse(d).strands[0].NumSegments(), 4);
+}
+
+TEST(SceneJson, GravityAppliesToEveryStrand) {
+  json d = MinimalScene();
+  const json copy = d["strands"][0];
+  d["strands"].push_back(copy);
+  d["gravity"] = {0.0, -9.81, 0.0};
+  const Scene scene = MustParse(d);
+  ASSERT_EQ(scene.strands.size(), 2u);
+  for (const StrandModel& m : scene.strands) EXPECT_EQ(m.gravity, Vec3(0.0, -9.81, 0.0));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene parsing: every bad input is one line naming the field.
+
+struct BadScene {
+  const char* name;
+  std::function<void(json&)> change;
+  const char* field;  // the error must contain this
+};
+
+std::vector<BadScene> BadScenes() {
+  auto strand = [](json& d) -> json& { return d["strands"][0]; };
+  auto root = [](json& d) -> json& { return d["strands"][0]["root"]; };
+  return {
+      // Structure.
+      {"TopLevelArray", [](json& d) { d = json::array({d}); }, "top level"},
+      {"MissingStrands", [](json& d) { d.erase("strands"); }, "strands"},
+      {"EmptyStrands", [](json& d) { d["strands"] = json::array(); }, "strands"},
+      {"StrandsNotArray", [](json& d) { d["strands"] = json::object(); }, "strands"},
+      {"StrandNotObject", [](json& d) { d["strands"][0] = 3; }, "strands[0]"},
+      {"UnknownTopLevel",
+       [](json& d) {
+         d["gravty"] = {0, 0, -9.81};
+       },
+       "gravty"},
+      {"UnknownStrandField", [=](json& d) { strand(d)["lenght"] = 0.1; }, "strands[0].lenght"},
+      {"UnknownRootField",
+       [=](json& d) {
+         root(d)["up"] = {0, 0, 1};
+       },
+       "strands[0].root.up"},
+      {"UnknownSolverField",
+       [](json& d) {
+         d["solver"] = {{"tol", 1e-6}};
+       },
+       "solver.tol"},
+      {"SecondStrandBad",
+       [](json& d) {
+         const json copy = d["strands"][0];
+         d["strands"].push_back(copy);
+         d["strands"][1]["radius"] = -1;
+       },
+       "strands[1].radius"},
+      // Length.
+      {"MissingLength", [=](json& d) { strand(d).erase("length"); }, "strands[0].length"},
+      {"ZeroLength", [=](json& d) { strand(d)["length"] = 0; }, "strands[0].length"},
+      {"NegativeLength", [=](json& d) { strand(d)["length"] = -0.1; }, "strands[0].length"},
+      {"StringLength", [=](json& d) { strand(d)["length"] = "10cm"; }, "strands[0].length"},
+      {"NullLength", [=](json& d) { strand(d)["length"] = nullptr; }, "strands[0].length"},
+      // Segments.
+      {"ZeroSegments", [=](json& d) { strand(d)["segments"] = 0; }, "strands[0].segments"},
+      {"NegativeSegments", [=](json& d) { strand(d)["segments"] = -3; }, "strands[0].segments"},
+      {"TooManySegments", [=](json& d) { strand(d)["segments"] = kMaxSegments + 1; },
+       "strands[0].segments"},
+      {"HugeSegments", [=](json& d) { strand(d)["segments"] = 1e300; }, "strands[0].segments"},
+      {"FractionalSegments", [=](json& d) { strand(d)["segments"] = 2.5; }, "strands[0].segments"},
+      {"StringSegments", [=](json& d) { strand(d)["segments"] = "15"; }, "strands[0].segments"},
+      {"BoolSegments", [=](json& d) { strand(d)["segments"] = true; }, "strands[0].segments"},
+      {"GradingBelowOne", [=](json& d) { strand(d)["grading"] = 0.5; }, "strands[0].grading"},
+      {"SegmentLengthsWithGrading",
+       [=](json& d) {
+         strand(d)["segment_lengths"] = {0.05, 0.05};
+         strand(d)["grading"] = 2;
+       },
+       "strands[0].grading"},
+      {"SegmentLengthsCountMismatch",
+       [=](json& d) {
+         strand(d)["segment_lengths"] = {0.05, 0.05};
+         strand(d)["segments"] = 3;
+       },
+       "strands[0].segment_lengths"},
+      {"SegmentLengthsSumMismatch",
+       [=](json& d) {
+         strand(d)["segment_lengths"] = {0.05, 0.04};
+       },
+       "strands[0].segment_lengths"},
+      {"SegmentLengthsNegative",
+       [=](json& d) {
+         strand(d)["segment_lengths"] = {0.15, -0.05};
+       },
+       "strands[0].segment_lengths[1]"},
+      {"SegmentLengthsEmpty", [=](json& d) { strand(d)["segment_lengths"] = json::array(); },
+       "strands[0].segment_lengths"},
+      {"SegmentLengthsNotArray", [=](json& d) { strand(d)["segment_lengths"] = 0.1; },
+       "strands[0].segment_lengths"},
+      // Section.
+      {"ZeroRadius", [=](json& d) { strand(d)["radius"] = 0; }, "strands[0].radius"},
+      {"NegativeRadius", [=](json& d) { strand(d)["radius"] = -1; }, "strands[0].radius"},
+      {"EccentricityOne", [=](json& d) { strand(d)["eccentricity"] = 1.0; },
+       "strands[0].eccentricity"},
+      {"EccentricityNegative", [=](json& d) { strand(d)["eccentricity"] = -0.1; },
+       "strands[0].eccentricity"},
+      {"EllipticityBelowOne", [=](json& d) { strand(d)["ellipticity"] = 0.9; },
+       "strands[0].ellipticity"},
+      {"EccentricityAndEllipticity",
+       [=](json& d) {
+         strand(d)["eccentricity"] = 0.3;
+         strand(d)["ellipticity"] = 1.2;
+       },
+       "strands[0].ellipticity"},
+      // Material.
+      {"ZeroModulus", [=](json& d) { strand(d)["young_modulus"] = 0; }, "strands[0].young_modulus"},
+      {"NegativeModulus", [=](json& d) { strand(d)["young_modulus"] = -1e9; },
+       "strands[0].young_modulus"},
+      {"PoissonTooLarge", [=](json& d) { strand(d)["poisson_ratio"] = 0.6; },
+       "strands[0].poisson_ratio"},
+      {"PoissonMinusOne", [=](json& d) { strand(d)["poisson_ratio"] = -1; },
+       "strands[0].poisson_ratio"},
+      {"NegativeDensity", [=](json& d) { strand(d)["density"] = -1; }, "strands[0].density"},
+      // Natural shape and gravity.
+      {"CurvatureThreeEntries",
+       [=](json& d) {
+         strand(d)["natural_curvature"] = {1, 2, 3};
+       },
+       "strands[0].natural_curvature"},
+      {"CurvatureString",
+       [=](json& d) {
+         strand(d)["natural_curvature"] = {1, "2"};
+       },
+       "strands[0].natural_curvature"},
+      {"TwistString", [=](json& d) { strand(d)["natural_twist"] = "ten"; },
+       "strands[0].natural_twist"},
+      {"GravityTwoEntries",
+       [](json& d) {
+         d["gravity"] = {0, -9.81};
+       },
+       "gravity"},
+      // Root.
+      {"MissingRoot", [=](json& d) { strand(d).erase("root"); }, "strands[0].root"},
+      {"RootNotObject",
+       [=](json& d) {
+         strand(d)["root"] = {0, 0, 0};
+       },
+       "strands[0].root"},
+      {"MissingPosition", [=](json& d) { root(d).erase("position"); }, "strands[0].root.position"},
+      {"MissingTangent", [=](json& d) { root(d).erase("tangent"); }, "strands[0].root.tangent"},
+      {"MissingNormal", [=](json& d) { root(d).erase("normal"); }, "strands[0].root.normal"},
+      {"ZeroTangent",
+       [=](json& d) {
+         root(d)["tangent"] = {0, 0, 0};
+       },
+       "strands[0].root.tangent"},
+      {"OverflowingTangent",
+       [=](json& d) {
+         root(d)["tangent"] = {1e300, 1e300, 0};
+       },
+       "strands[0].root.tangent"},
+      {"ShortTangent",
+       [=](json& d) {
+         root(d)["tangent"] = {1, 0};
+       },
+       "strands[0].root.tangent"},
+      {"ZeroNormal",
+       [=](json& d) {
+         root(d)["normal"] = {0, 0, 0};
+       },
+       "strands[0].root.normal"},
+      {"ParallelNormal",
+       [=](json& d) {
+         root(d)["normal"] = {-3, 0, 0};
+       },
+       "strands[0].root.normal"},
+      {"PositionString", [=](json& d) { root(d)["position"] = "origin"; },
+       "strands[0].root.position"},
+      // Solver.
+      {"SolverNotObject", [](json& d) { d["solver"] = "bfgs"; }, "solver"},
+      {"UnknownMethod",
+       [](json& d) {
+         d["solver"] = {{"method", "cg"}};
+       },
+       "solver.method"},
+      {"MethodNotString",
+       [](json& d) {
+         d["solver"] = {{"method", 1}};
+       },
+       "solver.method"},
+      {"ZeroTolerance",
+       [](json& d) {
+         d["solver"] = {{"tolerance", 0}};
+       },
+       "solver.tolerance"},
+      {"ToleranceAboveOne",
+       [](json& d) {
+         d["solver"] = {{"tolerance", 2}};
+       },
+       "solver.tolerance"},
+      {"ZeroIterations",
+       [](json& d) {
+         d["solver"] = {{"max_iterations", 0}};
+       },
+       "solver.max_iterations"},
+      {"FractionalIterations",
+       [](json& d) {
+         d["solver"] = {{"max_iterations", 1.5}};
+       },
+       "solver.max_iterations"},
+      {"StabilityString",
+       [](json& d) {
+         d["solver"] = {{"check_stability", "yes"}};
+       },
+       "solver.check_stability"},
+  };
+}
+
+TEST(SceneJson, EveryBadInputNamesItsField) {
+  for (const BadScene& bad : BadScenes()) {
+    SCOPED_TRACE(bad.name);
+    json d = MinimalScene();
+    bad.change(d);
+    // A sentinel scene: a failed parse must leave it untouched.
+    Scene scene;
+    scene.solver.max_iterations = 7;
+    std::string error;
+    EXPECT_FALSE(ParseScene(d, &scene, &error));
+    EXPECT_NE(error.find(bad.field), std::string::npos) << "error: " << error;
+    EXPECT_EQ(error.find('\n'), std::string::npos) << "error: " << error;
+    EXPECT_TRUE(scene.strands.empty());
+    EXPECT_EQ(scene.solver.max_iterations, 7);
+  }
+}
+
+TEST(SceneJson, ErrorQuotesWhatWasFound) {
+  json d = MinimalScene();
+  d["strands"][0]["radius"] = -1;
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(ParseScene(d, &scene, &error));
+  EXPECT_EQ(error, "strands[0].radius: expected a finite number > 0 (metres), got -1");
+}
+
+TEST(SceneJson, MisspeltFieldGetsAHint) {
+  json d = MinimalScene();
+  d["strands"][0]["raduis"] = 1e-4;
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(ParseScene(d, &scene, &error));
+  EXPECT_NE(error.find("did you mean \"radius\""), std::string::npos) << error;
+}
+
+TEST(SceneJson, OddKeysStayOnOneLine) {
+  json d = MinimalScene();
+  d["strands"][0]["a\nb"] = 1;
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(ParseScene(d, &scene, &error));
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  EXPECT_NE(error.find(R"(strands[0]["a\nb"])"), std::string::npos) << error;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene text: JSON syntax, positions, duplicates, files.
+
+TEST(SceneJsonText, SyntaxErrorSaysLineAndColumn) {
+  const std::string text = "{\n  \"strands\": [\n    {\"length\": 0.1,,}\n  ]\n}\n";
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(ParseSceneText(text, &scene, &error));
+  EXPECT_NE(error.find("line 3, column 20"), std::string::npos) << error;
+  EXPECT_NE(error.find("invalid JSON"), std::string::npos) << error;
+  EXPECT_EQ(error.find("json.exception"), std::string::npos) << error;
+}
+
+TEST(SceneJsonText, ColumnsCountCharactersNotBytes) {
+  // "é" is two bytes in UTF-8 but one column: the second comma is character 9, byte 10.
+  const std::string text = "{\"\xc3\xa9\": 1,,}";
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(ParseSceneText(text, &scene, &error));
+  EXPECT_NE(error.find("line 1, column 9"), std::string::npos) << error;
+}
+
+TEST(SceneJsonText, EmptyTextIsAnError) {
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(ParseSceneText("", &scene, &error));
+  EXPECT_NE(error.find("line 1, column 1"), std::string::npos) << error;
+}
+
+TEST(SceneJsonText, NumberOverflowIsNotInfinity) {
+  const std::string text = "{\n \"strands\": [\n  {\"length\": 1e999}]}";
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(ParseSceneText(text, &scene, &error));
+  EXPECT_EQ(error,
+            "strands[0].length: expected a finite number, got 1e999 (beyond the range of a "
+            "double; line 3, column 14)");
+  // Inside an array, the element is named.
+  ASSERT_FALSE(ParseSceneText(R"({"gravity": [0, -1e400, 0]})", &scene, &error));
+  EXPECT_NE(error.find("gravity[1]: expected a finite number, got -1e400"), std::string::npos)
+      << error;
+}
+
+TEST(SceneJsonText, DuplicateFieldIsAnError) {
+  const std::string text = R"({"strands": [{"length": 0.1, "radius": 1e-4, "radius": 2e-4,
+      "root": {"position": [0, 0, 0], "tangent": [1, 0, 0], "normal": [0, 0, 1]}}]})";
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(ParseSceneText(text, &scene, &error));
+  EXPECT_NE(error.find("strands[0].radius: duplicate field"), std::string::npos) << error;
+}
+
+TEST(SceneJsonText, DuplicateInLaterArrayElementIsLocated) {
+  const std::string text =
+      R"({"gravity": [0, 0, -9.81], "strands": [{"length": 0.1}, {"root": {"tangent": 1, )"
+      R"("tangent": 2}}]})";
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(ParseSceneText(text, &scene, &error));
+  EXPECT_NE(error.find("strands[1].root.tangent: duplicate field"), std::string::npos) << error;
+}
+
+TEST(SceneJsonText, ValidTextParses) {
+  Scene scene;
+  std::string error;
+  EXPECT_TRUE(ParseSceneText(MinimalScene().dump(2), &scene, &error)) << error;
+  EXPECT_EQ(scene.strands.size(), 1u);
+}
+
+TEST(SceneJsonFile, MissingFileNamesThePath) {
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(LoadScene("/nonexistent/scene.json", &scene, &error));
+  EXPECT_EQ(error.rfind("/nonexistent/scene.json: ", 0), 0u) << error;
+}
+
+TEST(SceneJsonFile, DirectoryIsNotAScene) {
+  TempDirectory dir;
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(LoadScene(dir.path(), &scene, &error));
+  EXPECT_NE(error.find("is a directory"), std::string::npos) << error;
+}
+
+TEST(SceneJsonFile, ErrorsStartWithThePath) {
+  TempDirectory dir;
+  const std::string path = dir.path() + "/scene.json";
+  json d = MinimalScene();
+  d["strands"][0]["radius"] = -1;
+  std::ofstream(path) << d.dump();
+  Scene scene;
+  std::string error;
+  ASSERT_FALSE(LoadScene(path, &scene, &error));
+  EXPECT_EQ(error, path + ": strands[0].radius: expected a finite number > 0 (metres), got -1");
+  // And a good file loads.
+  std::ofstream(path) << MinimalScene().dump();
+  EXPECT_TRUE(LoadScene(path, &scene, &error)) << error;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Result files.
+
+StrandModel HorizontalStrand() { return MustParse(MinimalScene()).strands[0]; }
+
+TEST(ResultJson, HasEveryKeyAndRoundTripsNumbers) {
+  const StrandModel model = HorizontalStrand();
+  const StrandSolution solution = SolveStrand(model);
+  ASSERT_TRUE(solution.summary.Converged()) << solution.summary.message;
+  const std::vector<StrandResult> results = {MakeStrandResult(model, solution, 1)};
+  const json doc = json::parse(ResultToString(results, 0.25));
+
+  for (const char* key : {"strands", "summary", "units"}) EXPECT_TRUE(doc.contains(key)) << key;
+  ASSERT_EQ(doc["strands"].size(), 1u);
+  const json& s = doc["strands"][0];
+  for (const char* key : {"points", "curvatures", "segment_lengths", "energy", "gradient_norm",
+                          "residual", "iterations", "evaluations", "termination", "stable",
+                          "min_hessian_eigenvalue", "stability_restarts", "message"}) {
+    EXPECT_TRUE(s.contains(key)) << key;
+  }
+  for (const char* key : {"elastic", "gravity", "total"}) EXPECT_TRUE(s["energy"].contains(key));
+  for (const char* key : {"strands", "converged", "stable", "seconds"}) {
+    EXPECT_TRUE(doc["summary"].contains(key)) << key;
+  }
+
+  // Shapes: n + 1 points, n curvature triples, n lengths.
+  const int n = model.NumSegments();
+  ASSERT_EQ(s["points"].size(), static_cast<size_t>(n + 1));
+  ASSERT_EQ(s["curvatures"].size(), static_cast<size_t>(n));
+  ASSERT_EQ(s["segment_lengths"].size(), static_cast<size_t>(n));
+  for (const json& p : s["points"]) EXPECT_EQ(p.size(), 3u);
+  for (const json& c : s["curvatures"]) EXPECT_EQ(c.size(), 3u);
+
+  // Values, bit for bit (full precision).
+  const StrandResult& r = results[0];
+  for (int i = 0; i <= n; ++i) {
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(s["points"][i][j].get<double>(), r.points[i](j));
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      EXPECT_EQ(s["curvatures"][i][j].get<double>(), solution.curvatures(3 * i + j));
+    }
+    EXPECT_EQ(s["segment_lengths"][i].get<double>(), model.segment_lengths[i]);
+  }
+  EXPECT_EQ(s["energy"]["total"].get<double>(), solution.summary.energy.total);
+  EXPECT_EQ(s["residual"].get<double>(), solution.summary.residual);
+  EXPECT_EQ(s["termination"], "converged");
+  EXPECT_EQ(s["stable"], true);
+  EXPECT_EQ(s["iterations"], solution.summary.iterations);
+  EXPECT_EQ(doc["summary"]["strands"], 1);
+  EXPECT_EQ(doc["summary"]["converged"], 1);
+  EXPECT_EQ(doc["summary"]["stable"], 1);
+  EXPECT_EQ(doc["summary"]["seconds"], 0.25);
+  // The first point is the root; the strand sags under gravity.
+  EXPECT_EQ(r.points.front(), model.root_position);
+  EXPECT_LT(r.points.back().z(), 0.0);
+}
+
+TEST(ResultJson, PointsPerSegmentSamplesTheCentreline) {
+  const StrandModel model = HorizontalStrand();
+  const StrandSolution solution = SolveStrand(model);
+  const int n = model.NumSegments();
+  for (int k : {1, 2, 5}) {
+    const StrandResult r = MakeStrandResult(model, solution, k);
+    ASSERT_EQ(r.points.size(), static_cast<size_t>(n * k + 1)) << k;
+    // Every k-th sample is a segment end, whatever k.
+    const StrandResult ends = MakeStrandResult(model, solution, 1);
+    for (int i = 0; i <= n; ++i) {
+      EXPECT_TRUE(r.points[static_cast<size_t>(i * k)].isApprox(ends.points[i], 1e-12))
+          << k << " " << i;
+    }
+  }
+}
+
+TEST(ResultJson, NonFiniteValuesAreNullAndSaySo) {
+  const StrandModel model = HorizontalStrand();
+  StrandSolution solution = SolveStrand(model);
+  ASSERT_TRUE(solution.summary.stable);
+  solution.curvatures(4) = std::numeric_limits<double>::quiet_NaN();
+  solution.summary.energy.total = std::numeric_limits<double>::infinity();
+  const StrandResult r = MakeStrandResult(model, solution, 1);
+  EXPECT_EQ(r.summary.termination, Termination::kNonFinite);
+  EXPECT_FALSE(r.summary.stable);
+  EXPECT_FALSE(r.Succeeded());
+
+  const std::string text = ResultToString({r}, 0.0);
+  json doc;
+  ASSERT_NO_THROW(doc = json::parse(text));  // valid JSON, no NaN or Infinity literals
+  const json& s = doc["strands"][0];
+  EXPECT_EQ(s["termination"], "non_finite");
+  EXPECT_EQ(s["stable"], false);
+  EXPECT_TRUE(s["curvatures"][1][1].is_null());
+  EXPECT_TRUE(s["energy"]["total"].is_null());
+  EXPECT_NE(s["message"].get<std::string>().find("non-finite"), std::string::npos);
+  EXPECT_EQ(doc["summary"]["converged"], 0);
+  EXPECT_EQ(doc["summary"]["stable"], 0);
+}
+
+TEST(ResultJson, UncheckedStabilityStillSucceedsWhenConverged) {
+  const StrandModel model = HorizontalStrand();
+  SolveOptions options;
+  options.check_stability = false;
+  const StrandResult r = MakeStrandResult(model, SolveStrand(model, options), 1);
+  EXPECT_TRUE(r.summary.Converged());
+  EXPECT_FALSE(r.summary.stability_checked);
+  EXPECT_TRUE(r.Succeeded());
+  const json s = json::parse(ResultToString({r}, 0.0))["strands"][0];
+  EXPECT_TRUE(s["min_hessian_eigenvalue"].is_null());
+  EXPECT_EQ(s["stability_checked"], false);
+}
+
+TEST(ResultJson, CountsOverStrands) {
+  const StrandModel model = HorizontalStrand();
+  SolveOptions short_budget;
+  short_budget.max_iterations = 1;
+  const std::vector<StrandResult> results = {
+      MakeStrandResult(model, SolveStrand(model), 1),
+      MakeStrandResult(model, SolveStrand(model, short_budget), 1)};
+  ASSERT_FALSE(results[1].summary.Converged());  // anti-vacuity: one strand really failed
+  const ResultCounts counts = CountResults(results);
+  EXPECT_EQ(counts.strands, 2);
+  EXPECT_EQ(counts.converged, 1);
+  EXPECT_EQ(counts.stable, 1);
+  EXPECT_EQ(counts.succeeded, 1);
+  EXPECT_EQ(json::parse(ResultToString(results, 0.0))["strands"][1]["termination"],
+            "max_iterations");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Atomic writes.
+
+TEST(AtomicFile, WritesNewFileAndLeavesNoTemporary) {
+  TempDirectory dir;
+  const std::string path = dir.path() + "/out.json";
+  std::string error;
+  ASSERT_TRUE(WriteFileAtomically(path, "hello\n", false, &error)) << error;
+  EXPECT_EQ(ReadAll(path), "hello\n");
+  EXPECT_EQ(dir.Entries(), std::vector<std::string>{"out.json"});
+}
+
+TEST(AtomicFile, RefusesToOverwriteWithoutPermission) {
+  TempDirectory dir;
+  const std::string path = dir.path() + "/out.json";
+  std::ofstream(path) << "precious";
+  std::string error;
+  EXPECT_FALSE(WriteFileAtomically(path, "new", false, &error));
+  EXPECT_NE(error.find("already exists"), std::string::npos) << error;
+  EXPECT_EQ(error.rfind(path, 0), 0u) << error;
+  EXPECT_EQ(ReadAll(path), "precious");
+  EXPECT_EQ(dir.Entries(), std::vector<std::string>{"out.json"});
+}
+
+TEST(AtomicFile, OverwritesWhenAllowed) {
+  TempDirectory dir;
+  const std::string path = dir.path() + "/out.json";
+  std::ofstream(path) << "old";
+  std::string error;
+  ASSERT_TRUE(WriteFileAtomically(path, "new", true, &error)) << error;
+  EXPECT_EQ(ReadAll(path), "new");
+  EXPECT_EQ(dir.Entries(), std::vector<std::string>{"out.json"});
+}
+
+TEST(AtomicFile, FailsCleanlyInAMissingDirectory) {
+  TempDirectory dir;
+  const std::string path = dir.path() + "/missing/out.json";
+  std::string error;
+  EXPECT_FALSE(WriteFileAtomically(path, "x", false, &error));
+  EXPECT_EQ(error.rfind(path, 0), 0u) << error;
+  EXPECT_TRUE(dir.Entries().empty());
+}
+
+TEST(AtomicFile, RefusesADirectory) {
+  TempDirectory dir;
+  std::string error;
+  EXPECT_FALSE(WriteFileAtomically(dir.path(), "x", true, &error));
+  EXPECT_NE(error.find("is a directory"), std::string::npos) << error;
+  EXPECT_TRUE(dir.Entries().empty());
+}
+
+TEST(AtomicFile, ReadFileReadsWhatWasWritten) {
+  TempDirectory dir;
+  const std::string path = dir.path() + "/data";
+  std::string big(200000, 'x');  // more than one read() buffer
+  big[123456] = 'y';
+  std::string error;
+  ASSERT_TRUE(WriteFileAtomically(path, big, false, &error)) << error;
+  std::string back;
+  ASSERT_TRUE(ReadFile(path, &back, &error)) << error;
+  EXPECT_EQ(back, big);
+}
+
+}  // namespace
+}  // namespace ringlet

@@ -1,0 +1,48 @@
+// The subcommands of the `ringlet` tool, one file each (pbrt's cmd/): main.cpp only registers
+// them and runs the one that was parsed. Only cli/ prints and exits.
+#pragma once
+
+#include <cstdio>
+#include <functional>
+#include <string>
+
+namespace CLI {
+class App;
+}  // namespace CLI
+
+namespace ringlet::cli {
+
+/// Exit codes shared by all subcommands.
+inline constexpr int kExitSuccess = 0;   ///< everything worked
+inline constexpr int kExitBadInput = 1;  ///< bad usage or input; nothing was written
+inline constexpr int kExitUnsolved =
+    2;  ///< results written, but some did not converge or are unstable
+
+/// A registered subcommand: its CLI11 app, and the action that runs it once the command line has
+/// been parsed; the action returns the process exit code.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+/// `ringlet solve SCENE.json -o RESULT.json`: static equilibrium of every strand of a scene.
+Command AddSolveCommand(CLI::App* parent);
+
+/// Prints "ringlet: <kind>: <message>" as exactly one line on stderr: control characters in the
+/// message (a newline in a file name, say) are shown as '?'.
+inline void PrintDiagnostic(const char* kind, const std::string& message) {
+  std::string line = message;
+  for (char& c : line) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  }
+  std::fprintf(stderr, "ringlet: %s: %s\n", kind, line.c_str());
+  std::fflush(stderr);
+}
+
+/// One line "ringlet: error: <message>" on stderr.
+inline void PrintError(const std::string& message) { PrintDiagnostic("error", message); }
+
+/// One line "ringlet: warning: <message>" on stderr.
+inline void PrintWarning(const std::string& message) { PrintDiagnostic("warning", message); }
+
+}  // namespace ringlet::cli
