@@ -199,6 +199,23 @@ TEST(SceneJson, GradingGrowsSegmentsTowardsTheTip) {
   for (int i = 1; i < 40; ++i) EXPECT_GT(m.segment_lengths[i], m.segment_lengths[i - 1]);
 }
 
+// "grading": "auto" applies RecommendedGradingRatio to the strand's own load w L^3 / (E I1),
+// computed here by hand for a circular 50-um hair: w = rho pi r^2 g, E I1 = E pi r^4 / 4.
+TEST(SceneJson, AutoGradingUsesTheLoad) {
+  json d = MinimalScene();
+  d["strands"][0]["length"] = 0.5;
+  d["strands"][0]["segments"] = 30;
+  d["strands"][0]["grading"] = "auto";
+  const StrandModel m = MustParse(d).strands[0];
+  const double r = 50e-6, pi = std::acos(-1.0);
+  const double load = 1300 * pi * r * r * 9.81 * 0.125 / (10e9 * pi * r * r * r * r / 4);
+  EXPECT_NEAR(load, 255.06, 0.01);  // 4 rho g L^3 / (E r^2): a heavy hair, grading matters
+  EXPECT_NEAR(m.segment_lengths.back() / m.segment_lengths.front(),
+              RecommendedGradingRatio(load), 1e-9 * RecommendedGradingRatio(load));
+  EXPECT_GT(m.segment_lengths.back() / m.segment_lengths.front(), 30.0);
+  EXPECT_NEAR(m.Length(), 0.5, 1e-15);
+}
+
 TEST(SceneJson, ExplicitSegmentLengthsAreKept) {
   json d = MinimalScene();
   d["strands"][0]["segment_lengths"] = {0.01, 0.02, 0.03, 0.04};
@@ -415,6 +432,11 @@ std::vector<BadScene> BadScenes() {
          d["solver"] = {{"max_iterations", 1.5}};
        },
        "solver.max_iterations"},
+      {"GradingUnknownWord",
+       [](json& d) {
+         d["strands"][0]["grading"] = "automatic";
+       },
+       "strands[0].grading"},
       {"StabilityString",
        [](json& d) {
          d["solver"] = {{"check_stability", "yes"}};

@@ -55,6 +55,15 @@ std::vector<double> UniformSegments(double length, int segments);
 /// whose width is about L / sqrt(w L^3 / EI). ratio = 1 gives uniform segments.
 std::vector<double> GradedSegments(double length, int segments, double ratio);
 
+/// The last/first segment-length ratio recommended for a strand of load lambda = w L^3 / (E I1):
+///   ratio = 1 + lambda / (2 sqrt(1 + lambda / 64)),
+/// about 1 + lambda/2 for light strands and 4 sqrt(lambda) for heavy ones, whose bending layer at
+/// the root has width ~L / sqrt(lambda). Fitted to the ratio minimizing the tip error of a
+/// horizontally clamped straight strand against the planar heavy-elastica reference for lambda in
+/// [0.5, 3000] and n in [10, 50] (tip error within 6.4% of the best ratio's; docs/validation.md).
+/// Curled strands prefer 3-8 times smaller ratios. The scene's `"grading": "auto"` uses it.
+double RecommendedGradingRatio(double gravity_parameter);
+
 /// The root frame (n1, n2, t) from a tangent and a normal (any lengths): t is normalized, n1 is the
 /// normal orthogonalized against t (Gram-Schmidt) and normalized, n2 = t x n1 so n1 x n2 = t.
 /// Returns false, with a reason, when the tangent is zero or not finite or when the normal is

@@ -141,7 +141,7 @@ constexpr NumberRule kEccentricityRule{"a finite number in [0, 1)",
 constexpr NumberRule kEllipticityRule{"a finite number >= 1 (the ratio a/b of the semi-axes)",
                                       [](double x) { return x >= 1.0; }};
 constexpr NumberRule kTwistRule{"a finite number (1/metre)", [](double) { return true; }};
-constexpr NumberRule kGradingRule{"a finite number >= 1 (last/first segment length)",
+constexpr NumberRule kGradingRule{"a finite number >= 1 (last/first segment length) or \"auto\"",
                                   [](double x) { return x >= 1.0; }};
 constexpr NumberRule kToleranceRule{"a finite number in (0, 1)",
                                     [](double x) { return x > 0.0 && x < 1.0; }};
@@ -318,7 +318,16 @@ bool ParseSegments(Reader& reader, const json& strand, const std::string& path, 
   }
   double grading = 1.0;
   bool has_grading = false;
-  if (!reader.ReadNumber(strand, path, "grading", kGradingRule, false, &grading, &has_grading)) {
+  const auto grading_it = strand.find("grading");
+  if (grading_it != strand.end() && grading_it->is_string() && *grading_it == "auto") {
+    // RecommendedGradingRatio from the load w L^3 / (E I1); section, material and gravity are
+    // parsed before the segments for this.
+    has_grading = true;
+    const double ei = model->material.young_modulus * model->section.I1();
+    const double w = model->material.density * model->section.Area() * model->gravity.norm();
+    grading = RecommendedGradingRatio(w * length * length * length / ei);
+  } else if (!reader.ReadNumber(strand, path, "grading", kGradingRule, false, &grading,
+                                &has_grading)) {
     return false;
   }
 
@@ -386,10 +395,9 @@ bool ParseStrand(Reader& reader, const json& strand, const std::string& path, co
   StrandModel model;
   model.gravity = gravity;
 
-  // Length and segment layout.
+  // Length (the segment layout comes after the material: "grading": "auto" needs the load).
   double length = 0.0;
   if (!reader.ReadNumber(strand, path, "length", kLengthRule, true, &length)) return false;
-  if (!ParseSegments(reader, strand, path, length, &model)) return false;
 
   // Cross-section: mean radius and one of eccentricity or ellipticity (circular by default).
   double radius = kDefaultRadius;
@@ -429,6 +437,9 @@ bool ParseStrand(Reader& reader, const json& strand, const std::string& path, co
     return false;
   }
   model.natural_curvature = Vec3(natural_curvature(0), natural_curvature(1), natural_twist);
+
+  // Segment layout: uniform, graded (a ratio or "auto") or explicit lengths.
+  if (!ParseSegments(reader, strand, path, length, &model)) return false;
 
   if (!ParseRoot(reader, strand, path, &model)) return false;
 

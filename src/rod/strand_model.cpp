@@ -52,6 +52,10 @@ std::vector<double> GradedSegments(double length, int segments, double ratio) {
   return lengths;
 }
 
+double RecommendedGradingRatio(double gravity_parameter) {
+  return 1.0 + gravity_parameter / (2.0 * std::sqrt(1.0 + gravity_parameter / 64.0));
+}
+
 bool RootFrameFromTangentNormal(const Vec3& tangent, const Vec3& normal, Mat3* frame,
                                 std::string* why) {
   const double t_norm = tangent.norm();

@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "ringlet/strand_model.h"
+
 namespace ringlet::reference {
 
 /// Last/first segment length ratio for GradedSegments(L, n, ratio) given the load
@@ -17,8 +19,7 @@ namespace ringlet::reference {
 /// [10, 50]: the tip error with this rule is within 6.4% of the optimum's (10% at lambda = 10,
 /// n = 10). The optimum grows only slowly with n (x1.5 from n = 10 to 50), so the rule ignores n.
 /// Curled strands prefer 3-8 times smaller ratios (their tip needs short segments too).
-inline double SuggestedGradingRatio(double load) {
-  return 1.0 + load / (2.0 * std::sqrt(1.0 + load / 64.0));
-}
+/// The rule now lives in the library as RecommendedGradingRatio (the scene's "grading": "auto").
+inline double SuggestedGradingRatio(double load) { return RecommendedGradingRatio(load); }
 
 }  // namespace ringlet::reference
