@@ -4,6 +4,7 @@
 #include <string>
 
 #include "ringlet/energy.h"
+#include "ringlet/kirchhoff.h"
 #include "ringlet/math.h"
 #include "ringlet/strand_model.h"
 
@@ -78,15 +79,6 @@ struct StrandSolution {
 /// natural (gravity-free) shape or from initial_curvatures (a warm start, size 3n) when given.
 StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options = {},
                            const VecX* initial_curvatures = nullptr);
-
-/// The dimensionless equilibrium residual of a configuration. The gradient of the energy with
-/// respect to segment i's curvatures is g_i = l_i K (Omega_i - Omega^0) - m_i, where m_i is the
-/// external moment integrated over the segment: g_i = 0 is Kirchhoff's moment balance averaged
-/// over the segment (with the moment-free tip built in). The residual is
-///   max_i |g_i| / (l_i M_ref),   M_ref = |f| L^2 / 2 + max_i |K (Omega_i - Omega^0)| + E I1 / L,
-/// the internal-moment mismatch relative to the largest moment in play (N m / N m).
-double EquilibriumResidual(const StrandModel& model, const VecX& curvatures,
-                           const VecX& gradient);
 
 /// Smallest eigenvalue of the Hessian in the stiffness-scaled variables x (dimensionless; 1 with
 /// no gravity, negative at an unstable equilibrium), from central differences of the exact

@@ -132,29 +132,6 @@ bool SolveOptions::IsValid(std::string* why) const {
   return true;
 }
 
-double EquilibriumResidual(const StrandModel& model, const VecX& curvatures,
-                           const VecX& gradient) {
-  const int n = model.NumSegments();
-  const Vec3 k = model.Stiffness();
-  const double length = model.Length();
-  double max_internal = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const Vec3 d = curvatures.segment<3>(3 * i) - model.natural_curvature;
-    max_internal = std::max(max_internal, k.cwiseProduct(d).norm());
-  }
-  // Moment scale: heaviest gravity moment, largest internal moment, and the moment E I1 / L that
-  // bends the whole strand by one radian (so that an unloaded strand has a finite scale).
-  const double m_ref =
-      0.5 * model.WeightPerLength().norm() * length * length + max_internal + k(0) / length;
-  double residual = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const double r = gradient.segment<3>(3 * i).norm() / (model.segment_lengths[i] * m_ref);
-    if (!std::isfinite(r)) return std::numeric_limits<double>::infinity();
-    residual = std::max(residual, r);
-  }
-  return residual;
-}
-
 double MinScaledHessianEigenvalue(const StrandModel& model, const VecX& curvatures,
                                   VecX* direction) {
   ScaledStrandObjective objective(model);

@@ -1,0 +1,104 @@
+// The equilibrium certificate: Kirchhoff's balance from the geometry, by quadrature.
+#include "ringlet/kirchhoff.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "ringlet/helix.h"
+#include "ringlet/strand_geometry.h"
+
+namespace ringlet {
+namespace {
+
+// 8-point Gauss-Legendre nodes and weights on [-1, 1] (Abramowitz & Stegun, table 25.4).
+constexpr double kNodes[4] = {0.183434642495649805, 0.525532409916328986, 0.796666477413626740,
+                              0.960289856497536232};
+constexpr double kWeights[4] = {0.362683783378361983, 0.313706645877887287, 0.222381034453374471,
+                                0.101228536290376259};
+constexpr double kMaxTurnPerInterval = 0.5;  // rad
+
+}  // namespace
+
+double EquilibriumResidual(const StrandModel& model, const VecX& curvatures,
+                           const VecX& gradient) {
+  const int n = model.NumSegments();
+  const Vec3 k = model.Stiffness();
+  const double length = model.Length();
+  double max_internal = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const Vec3 d = curvatures.segment<3>(3 * i) - model.natural_curvature;
+    max_internal = std::max(max_internal, k.cwiseProduct(d).norm());
+  }
+  // Moment scale: heaviest gravity moment, largest internal moment, and the moment E I1 / L that
+  // bends the whole strand by one radian (so that an unloaded strand has a finite scale).
+  const double m_ref =
+      0.5 * model.WeightPerLength().norm() * length * length + max_internal + k(0) / length;
+  double residual = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double r = gradient.segment<3>(3 * i).norm() / (model.segment_lengths[i] * m_ref);
+    if (!std::isfinite(r)) return std::numeric_limits<double>::infinity();
+    residual = std::max(residual, r);
+  }
+  return residual;
+}
+
+VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
+  const int n = model.NumSegments();
+  const StrandGeometry g = ComputeGeometry(model, curvatures);
+  const Vec3 f = model.WeightPerLength();
+  const Vec3 k = model.Stiffness();
+  const double length = model.Length();
+
+  // t_end[i] = T(s_(i+1)) = int from the end of segment i to the tip of r ds (closed form per
+  // segment: int_segment r = l r_i + Q_i c), accumulated from the tip.
+  std::vector<Vec3> t_end(n);
+  std::vector<double> s_start(n);
+  Vec3 acc = Vec3::Zero();
+  for (int i = n - 1; i >= 0; --i) {
+    t_end[i] = acc;
+    const HelixSegment seg = EvaluateHelixSegment(curvatures.segment<3>(3 * i),
+                                                  model.segment_lengths[i]);
+    acc += model.segment_lengths[i] * g.points[i] + g.frames[i] * seg.moment;
+  }
+  double s = 0.0;
+  for (int i = 0; i < n; ++i) {
+    s_start[i] = s;
+    s += model.segment_lengths[i];
+  }
+
+  VecX imbalance(3 * n);
+  for (int i = 0; i < n; ++i) {
+    const Vec3 omega = curvatures.segment<3>(3 * i);
+    const double l = model.segment_lengths[i];
+    const HelixSegment whole = EvaluateHelixSegment(omega, l);
+    // int_u^l r(v) dv = (l - u) r_i + Q_i (c(l) - c(u)), c(u) the first moment of length u.
+    auto moment_below = [&](double u) {
+      const HelixSegment part = EvaluateHelixSegment(omega, u);
+      const Vec3 r = g.points[i] + g.frames[i] * part.chord;
+      const Vec3 t = t_end[i] + (l - u) * g.points[i] + g.frames[i] * (whole.moment - part.moment);
+      const Vec3 m = (t - (length - s_start[i] - u) * r).cross(f);
+      return Vec3((g.frames[i] * part.rotation).transpose() * m);  // material coordinates
+    };
+    const int pieces =
+        std::max(1, static_cast<int>(std::ceil(omega.norm() * l / kMaxTurnPerInterval)));
+    const double h = l / pieces;
+    Vec3 integral = Vec3::Zero();
+    for (int p = 0; p < pieces; ++p) {
+      const double mid = (p + 0.5) * h;
+      for (int q = 0; q < 4; ++q) {
+        const double d = 0.5 * h * kNodes[q];
+        integral += (0.5 * h * kWeights[q]) * (moment_below(mid - d) + moment_below(mid + d));
+      }
+    }
+    const Vec3 internal = l * k.cwiseProduct(omega - model.natural_curvature);
+    imbalance.segment<3>(3 * i) = internal - integral;
+  }
+  return imbalance;
+}
+
+double KirchhoffResidual(const StrandModel& model, const VecX& curvatures) {
+  return EquilibriumResidual(model, curvatures, KirchhoffImbalance(model, curvatures));
+}
+
+}  // namespace ringlet
