@@ -1,8 +1,9 @@
 // `ringlet solve SCENE.json -o RESULT.json`: the static equilibrium of every strand of a scene,
 // written as JSON (docs/scene-format.md), with a short human summary on stdout.
 //
-// Exit codes: 0 all strands converged (and are stable when checked), 2 some did not (the results
-// are still written and the summary says which), 1 bad usage or input (nothing is written).
+// Exit codes: 0 all strands converged (and are stable when checked), 2 some did not or --check
+// found a Kirchhoff residual above tolerance (the results are still written and the summary says
+// which), 1 bad usage or input (nothing is written).
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
@@ -32,6 +33,8 @@ struct SolveArgs {
   int points_per_segment = 1;
   bool force = false;
   bool quiet = false;
+  bool check = false;
+  double check_tolerance = 1e-6;
 };
 
 // printf into a std::string.
@@ -86,9 +89,9 @@ std::string StrandLine(int index, const StrandResult& result) {
   const Vec3& tip = result.points.back();
   return Format(
       "strand %d: %s, %s, %d iterations, tip (%.6g, %.6g, %.6g) m, energy %.6g J, "
-      "residual %.2g",
+      "residual %.2g (Kirchhoff %.2g)",
       index, TerminationName(s.termination), stability, s.iterations, tip.x(), tip.y(), tip.z(),
-      s.energy.total, s.residual);
+      s.energy.total, s.residual, result.kirchhoff_residual);
 }
 
 int RunSolve(const SolveArgs& args) {
@@ -122,6 +125,20 @@ int RunSolve(const SolveArgs& args) {
   }
 
   const ResultCounts counts = CountResults(results);
+  // --check: the independent Kirchhoff certificate of every strand must be below tolerance.
+  int failed_checks = 0;
+  std::string failed;
+  if (args.check) {
+    for (size_t i = 0; i < results.size(); ++i) {
+      const double r = results[i].kirchhoff_residual;
+      if (r <= args.check_tolerance) continue;  // false for NaN too
+      if (failed_checks < kMaxListedStrands) {
+        failed += Format("%sstrand %d (%.3g)", failed_checks == 0 ? "" : ", ",
+                         static_cast<int>(i), r);
+      }
+      ++failed_checks;
+    }
+  }
   if (!args.quiet) {
     for (size_t i = 0; i < results.size(); ++i) {
       std::printf("%s\n", StrandLine(static_cast<int>(i), results[i]).c_str());
@@ -130,6 +147,14 @@ int RunSolve(const SolveArgs& args) {
                 counts.strands == 1 ? "" : "s", counts.converged, counts.stable,
                 FormatSeconds(seconds).c_str(), args.output_path.c_str());
     std::fflush(stdout);
+  }
+  if (failed_checks > 0) {
+    PrintError(Format("equilibrium check failed: kirchhoff_residual above %.3g for %d of %d "
+                      "strands: %s%s; results written to %s",
+                      args.check_tolerance, failed_checks, counts.strands, failed.c_str(),
+                      failed_checks > kMaxListedStrands ? ", ..." : "",
+                      args.output_path.c_str()));
+    return kExitUnsolved;
   }
   if (counts.succeeded == counts.strands) return kExitSuccess;
 
@@ -170,6 +195,13 @@ Command AddSolveCommand(CLI::App* parent) {
                   "segment ends)")
       ->check(CLI::Range(1, kMaxPointsPerSegment));
   app->add_flag("--force", args->force, "Overwrite the output file if it exists");
+  app->add_flag("--check", args->check,
+                "Fail (exit 2, one error line) when any strand's kirchhoff_residual, the "
+                "equilibrium certificate computed independently of the solver, exceeds "
+                "--check-tolerance");
+  app->add_option("--check-tolerance", args->check_tolerance,
+                  "Tolerance of --check on the dimensionless kirchhoff_residual (default 1e-6)")
+      ->check(CLI::Range(1e-15, 1.0));
   app->add_flag("-q,--quiet", args->quiet,
                 "Print no summary or warning (errors still go to stderr)");
   return Command{app, [args] { return RunSolve(*args); }};

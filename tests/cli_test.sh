@@ -137,6 +137,20 @@ for k in 1 4; do
   check_result "--points-per-segment $k" "$work/out/curly_k$k.json" "$k" solved
 done
 
+# --check: the Kirchhoff certificate passes at the default tolerance (1e-6) and fails loudly,
+# with exit 2 and one error line naming kirchhoff_residual, at an impossible one (1e-15: the
+# solver stops at a residual of ~1e-10); the result is written either way.
+run solve "$EXAMPLES/strands.json" -o "$work/out/checked.json" --check
+expect_rc "--check" 0
+grep -q '"kirchhoff_residual"' "$work/out/checked.json" && ok || fail "--check: no kirchhoff_residual key"
+run solve "$EXAMPLES/strands.json" -o "$work/out/check_fails.json" --check --check-tolerance 1e-15 --quiet
+expect_rc "--check above tolerance" 2
+expect_one_error_line "--check above tolerance" "kirchhoff_residual above"
+[ -f "$work/out/check_fails.json" ] && ok || fail "--check above tolerance: result not written"
+run solve "$EXAMPLES/strands.json" -o "$work/out/check_bad_tol.json" --check --check-tolerance -1
+expect_rc "--check-tolerance -1" 1
+[ -f "$work/out/check_bad_tol.json" ] && fail "--check-tolerance -1 wrote a file" || ok
+
 # --quiet prints nothing on success.
 run solve "$EXAMPLES/horizontal_10cm.json" -o "$work/out/quiet.json" --quiet
 expect_rc "--quiet" 0

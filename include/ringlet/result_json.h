@@ -23,6 +23,9 @@ struct StrandResult {
   /// The solver's summary. termination is kNonFinite (and stable false) whenever any number
   /// above or in the summary is NaN or infinite.
   SolveSummary summary;
+  /// The equilibrium certificate KirchhoffResidual (dimensionless): Kirchhoff's moment balance
+  /// by quadrature, independent of the solver's gradient (include/ringlet/kirchhoff.h).
+  double kirchhoff_residual = 0.0;
 
   /// True when the strand reached a usable equilibrium: converged and, when the stability check
   /// ran, stable.

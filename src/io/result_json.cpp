@@ -3,8 +3,10 @@
 
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 
+#include "ringlet/kirchhoff.h"
 #include "ringlet/strand_geometry.h"
 
 namespace ringlet {
@@ -76,6 +78,9 @@ StrandResult MakeStrandResult(const StrandModel& model, const StrandSolution& so
   result.curvatures = solution.curvatures;
   result.segment_lengths = model.segment_lengths;
   result.summary = solution.summary;
+  result.kirchhoff_residual = result.curvatures.allFinite()
+                                  ? KirchhoffResidual(model, result.curvatures)
+                                  : std::numeric_limits<double>::quiet_NaN();
 
   // The non-finite rule: a result with NaN or infinity anywhere is not an equilibrium, whatever
   // the minimizer said, and its file must say so (those numbers are written as null).
@@ -126,6 +131,7 @@ nlohmann::ordered_json ResultToJson(const std::vector<StrandResult>& strands, do
                         {"total", Number(s.energy.total)}};
     strand["gradient_norm"] = Number(s.gradient_norm);
     strand["residual"] = Number(s.residual);
+    strand["kirchhoff_residual"] = Number(r.kirchhoff_residual);
     strand["iterations"] = s.iterations;
     strand["evaluations"] = s.evaluations;
     strand["termination"] = TerminationName(s.termination);
@@ -152,6 +158,9 @@ nlohmann::ordered_json ResultToJson(const std::vector<StrandResult>& strands, do
       {"energy", "J: elastic, gravity (measured from the root) and their total"},
       {"gradient_norm", "J m: norm of the energy gradient with respect to the curvatures"},
       {"residual", "dimensionless: internal-moment mismatch relative to the largest moment"},
+      {"kirchhoff_residual",
+       "dimensionless: the same balance by quadrature of the hanging weight's moment, "
+       "independent of the solver (ringlet solve --check)"},
       {"min_hessian_eigenvalue",
        "dimensionless: stiffness-scaled Hessian, 1 for an unloaded rod, < 0 unstable; "
        "null when the stability check did not run"},
