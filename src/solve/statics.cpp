@@ -177,8 +177,9 @@ StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options
     Eigen::Index largest;
     mode.cwiseAbs().maxCoeff(&largest);
     if (mode(largest) < 0.0) mode = -mode;
-    const double turn = 1.0 / objective.MaxStep(x, mode) * kMaxTurnPerStep;
-    x += (kEscapeTurn / turn) * mode;
+    // MaxStep is the multiplier that turns the most turned segment by kMaxTurnPerStep; scale it
+    // to turn that segment by kEscapeTurn instead.
+    x += (objective.MaxStep(x, mode) * (kEscapeTurn / kMaxTurnPerStep)) * mode;
   }
 
   StrandSolution solution;
