@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libtinyobjloader-dev libtbb-dev libembree-dev libpng-dev
   python3-numpy python3-matplotlib
 )
 

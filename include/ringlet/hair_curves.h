@@ -1,0 +1,27 @@
+// A set of hair curves: what the groom produces and the exporters and renderer consume.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace ringlet {
+
+/// Single precision point: hair files store floats and a full head holds ~10^7 points.
+using Vec3f = Eigen::Vector3f;
+
+/// Strands as polylines, stored flat (the layout of Yuksel's .hair files and USD BasisCurves):
+/// strand k has point_counts[k] >= 2 consecutive points starting at the sum of the counts before it.
+struct HairCurves {
+  std::vector<std::uint32_t> point_counts;  ///< points per strand (each >= 2)
+  std::vector<Vec3f> points;                ///< centreline points, root to tip (m, world coordinates)
+  std::vector<float> widths;                ///< fibre diameter at each point (m); same size as points
+  /// Optional per-strand linear RGB colour in [0, 1] (empty, or one per strand).
+  std::vector<Vec3f> colors;
+
+  int NumStrands() const { return static_cast<int>(point_counts.size()); }
+  int NumPoints() const { return static_cast<int>(points.size()); }
+};
+
+}  // namespace ringlet

@@ -1,0 +1,22 @@
+// Rigid obstacles a strand may touch, described by a signed distance (paper, section 3.1).
+#pragma once
+
+#include "ringlet/math.h"
+
+namespace ringlet {
+
+/// A rigid obstacle (a body of spheres, a triangle mesh, ...) seen by the contact energy only
+/// through its signed distance: negative inside, zero on the surface, positive outside (m).
+/// Implementations must be thread-safe for concurrent queries (strands are solved in parallel)
+/// and 1-Lipschitz (|d(x) - d(y)| <= |x - y|), which the contact broad phase relies on.
+class Obstacle {
+ public:
+  virtual ~Obstacle() = default;
+
+  /// Signed distance from x (m, world coordinates) to the surface (m). If gradient is not null it
+  /// receives dd/dx, the outward unit normal of the closest surface point (any unit vector where
+  /// the distance is not differentiable).
+  virtual double SignedDistance(const Vec3& x, Vec3* gradient) const = 0;
+};
+
+}  // namespace ringlet
