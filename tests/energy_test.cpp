@@ -53,7 +53,7 @@ TEST_P(GradientTest, GravityMatchesFiniteDifferences) {
   StrandModel m = MakeStrand(0.2, c.segments, c.eccentricity, Vec3(30.0, -10.0, 8.0),
                              RandomRotation(c.seed));
   const VecX q = RandomCurvatures(c.segments, c.amplitude, c.seed + 1);
-  GravityWorkspace ws;
+  LoadWorkspace ws;
   const double ell = m.segment_lengths[0];
   ExpectGradientMatchesFd(
       [&](const VecX& x, VecX* g) { return GravityEnergy(m, x, g, &ws); }, q, 1e-5 / ell, 1e-7);

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "ringlet/contact.h"
 #include "ringlet/energy.h"
 #include "ringlet/kirchhoff.h"
 #include "ringlet/math.h"
@@ -65,6 +66,9 @@ struct SolveSummary {
   /// above the true value; when it is not, the exact eigenvalue.
   double min_eigenvalue = 0.0;
   int stability_restarts = 0;    ///< unstable equilibria left along negative curvature
+  /// Contact at the result (ContactMeasure; zeros without an obstacle): the largest depth below
+  /// the body surface (m) and into the clearance layer (m), and the samples carrying a force.
+  ContactMeasure contact;
 
   bool Converged() const { return termination == Termination::kConverged; }
 };

@@ -1,14 +1,36 @@
 // The immutable description of one hair strand: a Kirchhoff rod clamped at its root (paper, section 2).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "ringlet/cross_section.h"
 #include "ringlet/material.h"
 #include "ringlet/math.h"
+#include "ringlet/obstacle.h"
 
 namespace ringlet {
+
+/// Contact of a strand with a rigid obstacle by an elastic penalty (paper, section 3.1): the
+/// energy
+///   E_c = int_0^L 1/2 k x(s)^2 ds,   x(s) = max(0, clearance - d(r(s))),
+/// where d is the obstacle's signed distance, is added to E_e + E_g. The integral is the midpoint
+/// rule with samples_per_segment points inside each helical segment (at arc lengths
+/// (j + 1/2) l_i / m), so contact is felt between segment ends too. The root point itself is never
+/// a sample (it is clamped on the scalp).
+struct ContactModel {
+  /// The obstacle (a body of spheres or meshes); null means no contact. Shared, never modified.
+  std::shared_ptr<const Obstacle> obstacle;
+  /// Distance from the surface below which the penalty acts (m): the wisp thickness r_w (paper,
+  /// section 3.1) plus the hull-layer offset (Lee & Ko 2001). 0 = the bare surface.
+  double clearance = 0.0;
+  /// Penalty stiffness k per unit length (N/m^2: force per length per metre of penetration).
+  /// 0 selects DefaultContactStiffness.
+  double stiffness = 0.0;
+  /// Midpoint samples per segment m >= 1.
+  int samples_per_segment = 4;
+};
 
 /// One inextensible, unshearable Kirchhoff rod of elliptic section, clamped at its root, divided
 /// into segments of constant curvature and twist (each an exact helix).
@@ -31,6 +53,8 @@ struct StrandModel {
   Mat3 root_frame = Mat3::Identity();
   /// Gravitational acceleration vector (m/s^2); the paper's g = 9.81 m/s^2 pointing down (-z).
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+  /// Contact with a body (none by default).
+  ContactModel contact;
 
   /// Number of segments n.
   int NumSegments() const { return static_cast<int>(segment_lengths.size()); }
@@ -45,7 +69,20 @@ struct StrandModel {
   /// Dimensionless load |f| L^3 / (E I1): the ratio of weight to bending stiffness in the soft
   /// direction (Greenhill's self-buckling parameter; 7.8373 is the critical value).
   double GravityParameter() const;
+  /// The contact stiffness in use: contact.stiffness, or DefaultContactStiffness when it is 0.
+  double ContactStiffness() const;
 };
+
+/// The default penalty stiffness (N/m^2): a normal load of kContactLoadFactor times the strand's
+/// weight per length |f| is carried at a penetration of kContactPenetration L,
+///   k = kContactLoadFactor |f| / (kContactPenetration L).
+/// A strand draped over a sphere of radius R carries a normal load of about |f| (1 + L/R) per
+/// length (its weight plus the tension |f| L over the curvature 1/R): for L = 3R that is 4 |f|, so
+/// the penetration stays near 0.4e-3 L (0.1 mm for 30 cm of hair). Falls back to the bending
+/// scale E I1 / L^3 per length when there is no gravity.
+double DefaultContactStiffness(const StrandModel& model);
+inline constexpr double kContactLoadFactor = 10.0;
+inline constexpr double kContactPenetration = 1e-3;
 
 /// n segments of equal length L/n (m).
 std::vector<double> UniformSegments(double length, int segments);

@@ -1,6 +1,7 @@
 // Result files: solved strands -> JSON (docs/scene-format.md, "Result format").
 #include "ringlet/result_json.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -128,6 +129,7 @@ nlohmann::ordered_json ResultToJson(const std::vector<StrandResult>& strands, do
     strand["segment_lengths"] = std::move(lengths);
     strand["energy"] = {{"elastic", Number(s.energy.elastic)},
                         {"gravity", Number(s.energy.gravity)},
+                        {"contact", Number(s.energy.contact)},
                         {"total", Number(s.energy.total)}};
     strand["gradient_norm"] = Number(s.gradient_norm);
     strand["residual"] = Number(s.residual);
@@ -140,22 +142,29 @@ nlohmann::ordered_json ResultToJson(const std::vector<StrandResult>& strands, do
     strand["min_hessian_eigenvalue"] =
         s.stability_checked ? Number(s.min_eigenvalue) : json(nullptr);
     strand["stability_restarts"] = s.stability_restarts;
+    strand["max_penetration"] = Number(s.contact.max_penetration);
+    strand["contact_samples"] = s.contact.samples_in_contact;
     strand["message"] = s.message;
     strand_array.push_back(std::move(strand));
   }
 
   const ResultCounts counts = CountResults(strands);
+  double max_penetration = 0.0;
+  for (const StrandResult& r : strands) {
+    max_penetration = std::max(max_penetration, r.summary.contact.max_penetration);
+  }
   json document = json::object();
   document["strands"] = std::move(strand_array);
   document["summary"] = {{"strands", counts.strands},
                          {"converged", counts.converged},
                          {"stable", counts.stable},
+                         {"max_penetration", Number(max_penetration)},
                          {"seconds", Number(seconds)}};
   document["units"] = {
       {"points", "m, world coordinates, root to tip"},
       {"curvatures", "1/m: [kappa1, kappa2, tau] per segment in the material frame (n1, n2, t)"},
       {"segment_lengths", "m"},
-      {"energy", "J: elastic, gravity (measured from the root) and their total"},
+      {"energy", "J: elastic, gravity (measured from the root), contact penalty and their total"},
       {"gradient_norm", "J m: norm of the energy gradient with respect to the curvatures"},
       {"residual", "dimensionless: internal-moment mismatch relative to the largest moment"},
       {"kirchhoff_residual",
@@ -164,6 +173,8 @@ nlohmann::ordered_json ResultToJson(const std::vector<StrandResult>& strands, do
       {"min_hessian_eigenvalue",
        "dimensionless: stiffness-scaled Hessian, 1 for an unloaded rod, < 0 unstable; "
        "null when the stability check did not run"},
+      {"max_penetration", "m: largest depth of the strand below the body surface (0 without a body)"},
+      {"contact_samples", "count: contact samples inside the clearance layer (carrying a force)"},
       {"seconds", "s: wall time of the whole solve"},
       {"null", "a number that was NaN or infinite (termination is then non_finite)"}};
   return document;

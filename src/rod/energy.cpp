@@ -1,6 +1,7 @@
-// Elastic (eq. 3) and gravity (eqs. 4-5) energies with exact O(n) gradients.
+// Elastic (eq. 3), gravity (eqs. 4-5) and contact (section 3.1) energies with exact O(n) gradients.
 #include "ringlet/energy.h"
 
+#include <algorithm>
 #include <cassert>
 
 namespace ringlet {
@@ -21,52 +22,109 @@ double ElasticEnergy(const StrandModel& model, const VecX& curvatures, VecX* gra
   return energy;
 }
 
-void GravityWorkspace::Resize(int segments) {
+void LoadWorkspace::Resize(int segments) {
   frames_.resize(segments);
+  starts_.resize(segments);
   segments_.resize(segments);
 }
 
+// One forward and one reverse sweep over the segments for the external loads: gravity (eqs. 4-5)
+// and the contact penalty (section 3.1), either or both.
+struct LoadSweep {
+  static void Run(const StrandModel& model, const VecX& curvatures, bool with_gravity,
+                  bool with_contact, VecX* gradient, LoadWorkspace* ws, double* gravity_energy,
+                  double* contact_energy) {
+    const int n = model.NumSegments();
+    assert(curvatures.size() == 3 * n);
+    if (static_cast<int>(ws->frames_.size()) != n) ws->Resize(n);
+    ws->contacts_.clear();
+    const Vec3 f = with_gravity ? model.WeightPerLength() : Vec3::Zero();
+    const Obstacle* obstacle = with_contact ? model.contact.obstacle.get() : nullptr;
+    const double clearance = model.contact.clearance;
+    const int m = model.contact.samples_per_segment;
+    const double k = obstacle ? model.ContactStiffness() : 0.0;
+
+    // Forward sweep: Q_(i+1) = Q_i R_i, r_(i+1) = r_i + Q_i p_i with r_0 = 0 (the root is the
+    // origin of heights, the paper's z(0) = 0); the segment contributes -f . (l_i r_i + Q_i c_i)
+    // to E_g (DESIGN.md) and 1/2 k x^2 l_i / m per penetrating midpoint sample to E_c.
+    Mat3 q = model.root_frame;
+    Vec3 r = Vec3::Zero();
+    double eg = 0.0, ec = 0.0;
+    double d_start = obstacle ? obstacle->SignedDistance(model.root_position, nullptr) : 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double l = model.segment_lengths[i];
+      const Vec3 omega = curvatures.segment<3>(3 * i);
+      HelixSegment& s = ws->segments_[i];
+      s = EvaluateHelixSegment(omega, l);
+      ws->frames_[i] = q;
+      ws->starts_[i] = r;
+      eg -= f.dot(l * r + q * s.moment);
+      const Vec3 r_next = r + q * s.chord;
+      if (obstacle) {
+        const double d_end = obstacle->SignedDistance(model.root_position + r_next, nullptr);
+        if (std::min(d_start, d_end) - 0.5 * l < clearance) {
+          const double weight = l / m;  // midpoint rule
+          for (int j = 0; j < m; ++j) {
+            const double u = (j + 0.5) * weight;
+            const Vec3 h = HelixChord(omega, u);
+            Vec3 normal;
+            const double d = obstacle->SignedDistance(model.root_position + r + q * h, &normal);
+            const double x = clearance - d;  // penetration of the clearance layer
+            if (x <= 0.0) continue;
+            ec += 0.5 * weight * k * x * x;
+            ws->contacts_.push_back({i, u, h, -(weight * k * x) * normal});
+          }
+        }
+        d_start = d_end;
+      }
+      r = r_next;
+      q = q * s.rotation;
+    }
+    if (gravity_energy) *gravity_energy = eg;
+    if (contact_energy) *contact_energy = ec;
+    if (!gradient) return;
+
+    // Reverse sweep. r_bar and q_bar are dE/dr_(i+1) and dE/dQ_(i+1); for gravity r_bar =
+    // -(L - s_(i+1)) f and q_bar carries the moment of the hanging part. Each segment's
+    // sensitivities to R, p, c go through the exact derivative of the closed forms
+    // (HelixSegmentVjp); a contact sample's through that of its partial chord h(u).
+    gradient->resize(3 * n);
+    Vec3 r_bar = Vec3::Zero();
+    Mat3 q_bar = Mat3::Zero();
+    int c = static_cast<int>(ws->contacts_.size()) - 1;
+    for (int i = n - 1; i >= 0; --i) {
+      const Mat3& qi = ws->frames_[i];
+      const HelixSegment& s = ws->segments_[i];
+      const Vec3 omega = curvatures.segment<3>(3 * i);
+      const double l = model.segment_lengths[i];
+      Vec3 g = HelixSegmentVjp(omega, l, s.functions, qi.transpose() * q_bar,
+                               qi.transpose() * r_bar, -(qi.transpose() * f));
+      q_bar = q_bar * s.rotation.transpose() + r_bar * s.chord.transpose() -
+              f * s.moment.transpose();
+      r_bar -= l * f;
+      for (; c >= 0 && ws->contacts_[c].segment == i; --c) {
+        const LoadWorkspace::ContactSample& p = ws->contacts_[c];
+        g += HelixSegmentVjp(omega, p.u, EvaluateHelixFunctions(omega.norm() * p.u),
+                             Mat3::Zero(), qi.transpose() * p.dE_dx, Vec3::Zero());
+        q_bar += p.dE_dx * p.h.transpose();
+        r_bar += p.dE_dx;
+      }
+      gradient->segment<3>(3 * i) = g;
+    }
+  }
+};
+
 double GravityEnergy(const StrandModel& model, const VecX& curvatures, VecX* gradient,
-                     GravityWorkspace* workspace) {
-  const int n = model.NumSegments();
-  assert(curvatures.size() == 3 * n);
-  if (static_cast<int>(workspace->frames_.size()) != n) workspace->Resize(n);
-  const Vec3 f = model.WeightPerLength();
-
-  // Forward sweep: Q_(i+1) = Q_i R_i, r_(i+1) = r_i + Q_i p_i with r_0 = 0 (the root is the origin
-  // of heights, the paper's z(0) = 0); the segment contributes -f . (l_i r_i + Q_i c_i) (DESIGN.md).
-  Mat3 q = model.root_frame;
-  Vec3 r = Vec3::Zero();
+                     LoadWorkspace* workspace) {
   double energy = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const double l = model.segment_lengths[i];
-    HelixSegment& s = workspace->segments_[i];
-    s = EvaluateHelixSegment(curvatures.segment<3>(3 * i), l);
-    workspace->frames_[i] = q;
-    energy -= f.dot(l * r + q * s.moment);
-    r += q * s.chord;
-    q = q * s.rotation;
-  }
-  if (!gradient) return energy;
+  LoadSweep::Run(model, curvatures, true, false, gradient, workspace, &energy, nullptr);
+  return energy;
+}
 
-  // Reverse sweep. r_bar and q_bar are dE/dr_(i+1) and dE/dQ_(i+1); r_bar = -(L - s_(i+1)) f and
-  // q_bar carries the moment of the hanging part. Each segment's sensitivities to R, p, c go
-  // through the exact derivative of the closed forms (HelixSegmentVjp).
-  gradient->resize(3 * n);
-  Vec3 r_bar = Vec3::Zero();
-  Mat3 q_bar = Mat3::Zero();
-  for (int i = n - 1; i >= 0; --i) {
-    const Mat3& qi = workspace->frames_[i];
-    const HelixSegment& s = workspace->segments_[i];
-    const Mat3 d_rotation = qi.transpose() * q_bar;
-    const Vec3 d_chord = qi.transpose() * r_bar;
-    const Vec3 d_moment = -(qi.transpose() * f);
-    gradient->segment<3>(3 * i) = HelixSegmentVjp(
-        curvatures.segment<3>(3 * i), model.segment_lengths[i], s.functions, d_rotation, d_chord,
-        d_moment);
-    q_bar = q_bar * s.rotation.transpose() + r_bar * s.chord.transpose() - f * s.moment.transpose();
-    r_bar -= model.segment_lengths[i] * f;
-  }
+double ContactEnergy(const StrandModel& model, const VecX& curvatures, VecX* gradient,
+                     LoadWorkspace* workspace) {
+  double energy = 0.0;
+  LoadSweep::Run(model, curvatures, false, true, gradient, workspace, nullptr, &energy);
   return energy;
 }
 
@@ -75,15 +133,17 @@ StrandEnergy::StrandEnergy(const StrandModel& model)
 
 double StrandEnergy::Evaluate(const VecX& curvatures, VecX* gradient, EnergyTerms* terms) {
   const double elastic = ElasticEnergy(model_, curvatures, gradient);
-  const double gravity = GravityEnergy(model_, curvatures, gradient ? &scratch_ : nullptr,
-                                       &workspace_);
+  double gravity = 0.0, contact = 0.0;
+  LoadSweep::Run(model_, curvatures, true, model_.contact.obstacle != nullptr,
+                 gradient ? &scratch_ : nullptr, &workspace_, &gravity, &contact);
   if (gradient) *gradient += scratch_;
   if (terms) {
     terms->elastic = elastic;
     terms->gravity = gravity;
-    terms->total = elastic + gravity;
+    terms->contact = contact;
+    terms->total = elastic + gravity + contact;
   }
-  return elastic + gravity;
+  return elastic + gravity + contact;
 }
 
 }  // namespace ringlet

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "ringlet/contact.h"
 #include "ringlet/helix.h"
 #include "ringlet/strand_geometry.h"
 
@@ -67,6 +68,26 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
     s += model.segment_lengths[i];
   }
 
+  // Contact penalty forces are point loads at the midpoint samples (section 3.1). The moment
+  // about r(u) of those beyond u is sum (x_k - r(u)) x F_k = sum x_k x F_k - r(u) x sum F_k:
+  // suffix sums over the segments after i plus the samples of segment i beyond u.
+  const std::vector<ContactForce> contacts = ComputeContactForces(model, curvatures);
+  std::vector<Vec3> force_after(n + 1, Vec3::Zero()), torque_after(n + 1, Vec3::Zero());
+  for (const ContactForce& c : contacts) {
+    force_after[c.segment] += c.force;
+    torque_after[c.segment] += c.position.cross(c.force);
+  }
+  for (int i = n - 1; i >= 0; --i) {  // turn per-segment sums into sums over segments >= i
+    force_after[i] += force_after[i + 1];
+    torque_after[i] += torque_after[i + 1];
+  }
+  std::vector<int> first_contact(n + 1, static_cast<int>(contacts.size()));
+  for (int c = static_cast<int>(contacts.size()) - 1; c >= 0; --c) {
+    first_contact[contacts[c].segment] = c;
+  }
+  for (int i = n - 1; i >= 0; --i) first_contact[i] = std::min(first_contact[i], first_contact[i + 1]);
+  const int m = model.contact.samples_per_segment;
+
   VecX imbalance(3 * n);
   for (int i = 0; i < n; ++i) {
     const Vec3 omega = curvatures.segment<3>(3 * i);
@@ -77,11 +98,20 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
       const HelixSegment part = EvaluateHelixSegment(omega, u);
       const Vec3 r = g.points[i] + g.frames[i] * part.chord;
       const Vec3 t = t_end[i] + (l - u) * g.points[i] + g.frames[i] * (whole.moment - part.moment);
-      const Vec3 m = (t - (length - s_start[i] - u) * r).cross(f);
-      return Vec3((g.frames[i] * part.rotation).transpose() * m);  // material coordinates
+      Vec3 moment = (t - (length - s_start[i] - u) * r).cross(f);
+      Vec3 force = force_after[i + 1], torque = torque_after[i + 1];
+      for (int c = first_contact[i]; c < first_contact[i + 1]; ++c) {
+        if (contacts[c].u > u) {
+          force += contacts[c].force;
+          torque += contacts[c].position.cross(contacts[c].force);
+        }
+      }
+      moment += torque - r.cross(force);
+      return Vec3((g.frames[i] * part.rotation).transpose() * moment);  // material coordinates
     };
-    const int pieces =
-        std::max(1, static_cast<int>(std::ceil(omega.norm() * l / kMaxTurnPerInterval)));
+    int pieces = std::max(1, static_cast<int>(std::ceil(omega.norm() * l / kMaxTurnPerInterval)));
+    // With contact, the moment jumps at the samples (j + 1/2) l / m: make them piece boundaries.
+    if (!contacts.empty()) pieces = 2 * m * ((pieces + 2 * m - 1) / (2 * m));
     const double h = l / pieces;
     Vec3 integral = Vec3::Zero();
     for (int p = 0; p < pieces; ++p) {

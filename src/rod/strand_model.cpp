@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -30,6 +31,16 @@ VecX StrandModel::NaturalCurvatures() const {
 double StrandModel::GravityParameter() const {
   const double l = Length();
   return WeightPerLength().norm() * l * l * l / Stiffness()(0);
+}
+
+double StrandModel::ContactStiffness() const {
+  return contact.stiffness > 0.0 ? contact.stiffness : DefaultContactStiffness(*this);
+}
+
+double DefaultContactStiffness(const StrandModel& model) {
+  const double length = model.Length();
+  const double load = std::max(model.WeightPerLength().norm(), model.Stiffness()(0) / (length * length * length));
+  return kContactLoadFactor * load / (kContactPenetration * length);
 }
 
 std::vector<double> UniformSegments(double length, int segments) {
@@ -113,6 +124,19 @@ bool IsValid(const StrandModel& model, std::string* why) {
   if (!q.allFinite() || (q.transpose() * q - Mat3::Identity()).norm() > 1e-9 ||
       q.determinant() < 0.0) {
     if (why) *why = "root frame must be a proper rotation (n1 x n2 = t)";
+    return false;
+  }
+  const ContactModel& c = model.contact;
+  if (!(std::isfinite(c.clearance) && c.clearance >= 0.0)) {
+    if (why) *why = "contact clearance must be finite and >= 0 (m)";
+    return false;
+  }
+  if (!(std::isfinite(c.stiffness) && c.stiffness >= 0.0)) {
+    if (why) *why = "contact stiffness must be finite and >= 0 (N/m^2; 0 = default)";
+    return false;
+  }
+  if (c.samples_per_segment < 1 || c.samples_per_segment > 64) {
+    if (why) *why = "contact samples per segment must be between 1 and 64";
     return false;
   }
   return true;

@@ -189,6 +189,7 @@ StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options
   energy.Evaluate(solution.curvatures, &gradient, &summary.energy);
   summary.gradient_norm = gradient.norm();
   summary.residual = EquilibriumResidual(model, solution.curvatures, gradient);
+  summary.contact = MeasureContact(model, solution.curvatures);
   summary.stable = summary.Converged() && summary.stability_checked &&
                    summary.min_eigenvalue >= -kStabilityTolerance;
   if (summary.Converged() && summary.stability_checked && !summary.stable &&
