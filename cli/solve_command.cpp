@@ -14,9 +14,12 @@
 #include <vector>
 
 #include "commands.h"
+#include "format.h"
+#include "progress.h"
 #include "ringlet/atomic_file.h"
 #include "ringlet/result_json.h"
 #include "ringlet/scene_json.h"
+#include "ringlet/solve_strands.h"
 #include "ringlet/statics.h"
 
 namespace ringlet::cli {
@@ -35,23 +38,8 @@ struct SolveArgs {
   bool quiet = false;
   bool check = false;
   double check_tolerance = 1e-6;
+  int threads = 0;
 };
-
-// printf into a std::string.
-template <typename... Args>
-std::string Format(const char* format, Args... args) {
-  const int size = std::snprintf(nullptr, 0, format, args...);
-  if (size <= 0) return {};
-  std::string text(static_cast<size_t>(size) + 1, '\0');
-  std::snprintf(text.data(), text.size(), format, args...);
-  text.pop_back();
-  return text;
-}
-
-// "0.4 ms" below a second, "1.23 s" above.
-std::string FormatSeconds(double seconds) {
-  return seconds < 1.0 ? Format("%.1f ms", seconds * 1e3) : Format("%.2f s", seconds);
-}
 
 // The output must not be the scene itself, nor a directory, nor (without --force) an existing
 // file: nothing the user had is overwritten silently. Checked before solving so that the user
@@ -107,13 +95,18 @@ int RunSolve(const SolveArgs& args) {
     return kExitBadInput;
   }
 
-  // Strands are independent: solve them one after the other, in file order.
+  // Strands are independent: solved in parallel, results in file order whatever the threads.
   const auto start = std::chrono::steady_clock::now();
+  ProgressBar bar("solving", !args.quiet);
+  BatchOptions batch;
+  batch.threads = args.threads;
+  batch.progress = [&bar](int done, int total) { bar.Update(done, total); };
+  const std::vector<StrandSolution> solutions = SolveStrands(scene.strands, scene.solver, batch);
+  bar.Finish();
   std::vector<StrandResult> results;
   results.reserve(scene.strands.size());
-  for (const StrandModel& model : scene.strands) {
-    const StrandSolution solution = SolveStrand(model, scene.solver);
-    results.push_back(MakeStrandResult(model, solution, args.points_per_segment));
+  for (size_t i = 0; i < solutions.size(); ++i) {
+    results.push_back(MakeStrandResult(scene.strands[i], solutions[i], args.points_per_segment));
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -202,6 +195,9 @@ Command AddSolveCommand(CLI::App* parent) {
   app->add_option("--check-tolerance", args->check_tolerance,
                   "Tolerance of --check on the dimensionless kirchhoff_residual (default 1e-6)")
       ->check(CLI::Range(1e-15, 1.0));
+  app->add_option("--threads", args->threads,
+                  "Worker threads (default 0: all cores); results do not depend on it")
+      ->check(CLI::Range(0, 1024));
   app->add_flag("-q,--quiet", args->quiet,
                 "Print no summary or warning (errors still go to stderr)");
   return Command{app, [args] { return RunSolve(*args); }};
