@@ -64,3 +64,4 @@ BENCHMARK(BM_GenerateWisps)->Arg(0)->Arg(1)->ArgName("jitter_frizz")->Unit(bench
 
 }  // namespace
 }  // namespace ringlet
+BENCHMARK_MAIN();
