@@ -23,4 +23,24 @@ StrandGeometry ComputeGeometry(const StrandModel& model, const VecX& curvatures)
 std::vector<Vec3> SampleCentreline(const StrandModel& model, const VecX& curvatures,
                                    int points_per_segment);
 
+/// A centreline sampled together with its material frames: what the wisp generator needs to
+/// place child strands in the master's cross-section (groom/wisp.cpp). All three arrays have the
+/// same size (>= 2 for a usable strand), root to tip.
+struct FramedCentreline {
+  std::vector<Vec3> points;          ///< r(s_j) (m), world coordinates
+  std::vector<Mat3> frames;          ///< Q(s_j) = world_from_material, columns (n1, n2, t)
+  std::vector<double> arc_lengths;   ///< s_j (m), from 0 at the root, strictly increasing
+
+  int NumPoints() const { return static_cast<int>(points.size()); }
+  /// Arc length of the last sample, the strand length L (m); 0 when empty.
+  double Length() const { return arc_lengths.empty() ? 0.0 : arc_lengths.back(); }
+};
+
+/// The centreline and material frames at k >= 1 points per segment (equal arc-length steps
+/// inside each segment), root to tip: n k + 1 samples. Exact on each helix: at arc length u into
+/// segment i, r = r_i + Q_i p(u) and Q = Q_i R(u) (HelixChord, HelixRotation); the points equal
+/// SampleCentreline's and the samples at segment ends equal ComputeGeometry's.
+FramedCentreline SampleFramedCentreline(const StrandModel& model, const VecX& curvatures,
+                                        int points_per_segment);
+
 }  // namespace ringlet

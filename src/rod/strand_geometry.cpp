@@ -42,4 +42,37 @@ std::vector<Vec3> SampleCentreline(const StrandModel& model, const VecX& curvatu
   return points;
 }
 
+FramedCentreline SampleFramedCentreline(const StrandModel& model, const VecX& curvatures,
+                                        int points_per_segment) {
+  assert(points_per_segment >= 1);
+  const int n = model.NumSegments();
+  const StrandGeometry g = ComputeGeometry(model, curvatures);
+  FramedCentreline c;
+  const size_t size = static_cast<size_t>(n) * points_per_segment + 1;
+  c.points.reserve(size);
+  c.frames.reserve(size);
+  c.arc_lengths.reserve(size);
+  double s = 0.0;  // arc length at the start of segment i (m)
+  for (int i = 0; i < n; ++i) {
+    const Vec3 omega = curvatures.segment<3>(3 * i);
+    const double l = model.segment_lengths[i];
+    c.points.push_back(g.points[i]);
+    c.frames.push_back(g.frames[i]);
+    c.arc_lengths.push_back(s);
+    for (int k = 1; k < points_per_segment; ++k) {
+      // One closed-form evaluation gives both the partial chord p(u) and rotation R(u).
+      const double u = l * k / points_per_segment;
+      const HelixSegment partial = EvaluateHelixSegment(omega, u);
+      c.points.push_back(g.points[i] + g.frames[i] * partial.chord);
+      c.frames.push_back(g.frames[i] * partial.rotation);
+      c.arc_lengths.push_back(s + u);
+    }
+    s += l;
+  }
+  c.points.push_back(g.points[n]);
+  c.frames.push_back(g.frames[n]);
+  c.arc_lengths.push_back(s);
+  return c;
+}
+
 }  // namespace ringlet
