@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <numbers>
 
 #include "groom/random.h"
@@ -406,6 +408,35 @@ TEST(ScalpValidation, BadFieldsAreNamed) {
   EXPECT_NE(why.find("scalp.triangles["), std::string::npos);
   std::vector<Root> roots;
   EXPECT_FALSE(SampleRoots(m, RootSamplingOptions{}, CombOptions{}, &roots, nullptr, &why));
+}
+
+// Writes the roots of the default scalp, combed with a centre part, as CSV for
+// scripts/plot_scalp_roots.py (docs/images/scalp_roots.png) when RINGLET_SCALP_CSV names a file.
+TEST(ScalpPicture, WritesRootsCsvWhenAsked) {
+  const char* path = std::getenv("RINGLET_SCALP_CSV");
+  if (!path) GTEST_SKIP() << "set RINGLET_SCALP_CSV=<file> to write the picture's data";
+  const SphereScalp scalp;
+  RootSamplingOptions options;
+  options.count = 600;
+  options.seed = 1;
+  CombOptions comb;
+  comb.parting = true;
+  comb.direction = Vec3(0, -0.5, -1);
+  std::vector<Root> roots;
+  RootSamplingSummary summary;
+  std::string why;
+  ASSERT_TRUE(SampleRoots(scalp, options, comb, &roots, &summary, &why)) << why;
+  std::ofstream out(path);
+  out << "x,y,z,tx,ty,tz,n1x,n1y,n1z,polar,azimuth,side\n";
+  for (const Root& r : roots) {
+    const Vec3 &p = r.position, t = r.frame.col(2), n1 = r.frame.col(0);
+    out << p.x() << ',' << p.y() << ',' << p.z() << ',' << t.x() << ',' << t.y() << ',' << t.z()
+        << ',' << n1.x() << ',' << n1.y() << ',' << n1.z() << ',' << r.head.polar_angle << ','
+        << r.head.azimuth << ',' << r.parting_side << '\n';
+  }
+  out.close();
+  EXPECT_TRUE(out) << "could not write " << path;
+  EXPECT_EQ(summary.achieved, 600) << summary.message;
 }
 
 }  // namespace
