@@ -9,8 +9,8 @@
 // centreline is a helix about a_hat = Omega / |Omega| of radius kappa / |Omega|^2, and the
 // internal moment is m = B (kappa - kappa0) n1 + C (tau - tau0) t (the paper's eq. 3).
 // Kirchhoff's equations for a rod with no distributed load (Antman, Nonlinear Problems of
-// Elasticity, ch. 8; Love, A Treatise on the Mathematical Theory of Elasticity, 4th ed., the chapter on thin rods:
-// the helical spring):
+// Elasticity, ch. 8; the helical spring of Love, A Treatise on the Mathematical Theory of
+// Elasticity, 4th ed., chapter on thin rods):
 //   n' = 0,   m' + t x n = 0,
 // with a constant force n = F a_hat along the axis. m' = Omega x m (m is constant in the material
 // frame), Omega x m = -n2 (kappa C (tau - tau0) - tau B (kappa - kappa0)) and t x n = F kappa /
