@@ -1,0 +1,199 @@
+// The body hair rests on: a union of spheres (the paper's approach, section 3.1) and closed
+// triangle meshes, seen by the contact energy through its signed distance (docs/body.md).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ringlet/math.h"
+#include "ringlet/obstacle.h"
+
+namespace ringlet {
+
+/// An axis-aligned box (m); Eigen's default-constructed box is empty.
+using Box3 = Eigen::AlignedBox3d;
+
+/// A solid sphere of the body.
+struct Sphere {
+  /// Centre (m, world coordinates).
+  Vec3 center = Vec3::Zero();
+  /// Radius (m), finite and > 0.
+  double radius = 0.0;
+  /// Name used to find the sphere (e.g. "head"); may be empty; unique within a body otherwise.
+  std::string name;
+};
+
+/// Signed distance to a sphere (m): |x - c| - r, exact. If gradient is not null it receives the
+/// outward unit normal (x - c)/|x - c| (+z at the centre, where it is not differentiable).
+double SphereSignedDistance(const Sphere& sphere, const Vec3& x, Vec3* gradient);
+
+/// The closest feature of a triangle to a point: its interior, one of its edges (edge k joins
+/// corner k to corner (k+1) mod 3) or one of its corners.
+enum class TriangleFeature : std::uint8_t {
+  kFace,
+  kEdge0,
+  kEdge1,
+  kEdge2,
+  kVertex0,
+  kVertex1,
+  kVertex2,
+};
+
+/// The closest point of the triangle (a, b, c) to p (m) and the feature it lies on, by the
+/// Voronoi regions of the triangle (Ericson, Real-Time Collision Detection, 2005, section 5.1.5).
+/// The triangle must not be degenerate.
+Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                            TriangleFeature* feature);
+
+/// A closed, consistently and outward oriented triangle mesh (one solid, possibly with several
+/// shells) with a bounding-volume hierarchy for closest-point queries. Immutable once created;
+/// queries are thread-safe (no mutable state, no allocation) and the signed distance is
+/// 1-Lipschitz (it is the exact signed Euclidean distance to a closed surface).
+class TriangleMesh {
+ public:
+  /// Three vertex indices, counter-clockwise seen from outside (right-hand rule: the normal
+  /// (b - a) x (c - a) points out of the solid).
+  using Triangle = std::array<int, 3>;
+
+  /// An empty mesh (no triangles); use Create to build a real one.
+  TriangleMesh() = default;
+
+  /// Validates and builds a mesh: every index in range; no degenerate triangle (repeated index
+  /// or zero area, relative to the longest edge); closed and consistently oriented (every edge
+  /// belongs to exactly two triangles which run along it in opposite directions); every vertex
+  /// a manifold fan; positive enclosed volume (outward normals). A non-closed mesh is an error:
+  /// its inside is undefined. Vertices used by no triangle are dropped. name
+  /// appears in error messages ("head: edge (12, 40) belongs to 1 triangle"). On failure *mesh
+  /// is untouched, *error receives one line and the function returns false. Self-intersections
+  /// are not detected. Never throws.
+  /// message_index_base is added to the vertex indices quoted in messages (1 for OBJ files).
+  static bool Create(std::vector<Vec3> vertices, std::vector<Triangle> triangles,
+                     std::string name, TriangleMesh* mesh, std::string* error,
+                     int message_index_base = 0);
+
+  /// Signed distance from x (m) to the surface (m): negative inside. The sign is that of
+  /// (x - c) . n, where c is the closest surface point and n the angle-weighted pseudo-normal of
+  /// the feature (face, edge or vertex) c lies on (Baerentzen & Aanaes, "Signed distance
+  /// computation using the angle weighted pseudonormal", IEEE TVCG 11(3), 2005). If gradient is
+  /// not null it receives the unit vector sign * (x - c)/|x - c|, or the unit pseudo-normal of
+  /// the feature (the face normal inside a face) when x is on the surface. O(log n) with the
+  /// hierarchy for points near the mesh. An empty mesh returns +infinity and gradient +z.
+  double SignedDistance(const Vec3& x, Vec3* gradient) const;
+
+  /// The same result by testing every triangle, O(n): the reference for tests.
+  double SignedDistanceBruteForce(const Vec3& x, Vec3* gradient) const;
+
+  /// Vertex positions (m): those given to Create that some triangle uses, in order of first use.
+  const std::vector<Vec3>& vertices() const { return vertices_; }
+  /// Triangles, as given to Create, renumbered to vertices().
+  const std::vector<Triangle>& triangles() const { return triangles_; }
+  /// The name given to Create (e.g. the OBJ object's name).
+  const std::string& name() const { return name_; }
+  /// Box around the triangles (m); empty for an empty mesh.
+  const Box3& bounds() const { return bounds_; }
+  /// Volume enclosed by the surface (m^3), > 0 (divergence theorem).
+  double volume() const { return volume_; }
+
+ private:
+  // A node of the hierarchy: a box and either two children (count == 0; the first child is
+  // the next node, the second at `second`) or a leaf of `count` triangles from `first`.
+  struct Node {
+    Box3 box;
+    int first_or_second = 0;
+    int count = 0;
+  };
+  // A triangle's corners in hierarchy order, and its index in triangles_.
+  struct PackedTriangle {
+    std::array<Vec3, 3> corner;
+    int triangle = 0;
+  };
+
+  // The closest point found so far.
+  struct Candidate {
+    double distance_squared;  // m^2
+    Vec3 point;               // m
+    int triangle;             // index in triangles_
+    TriangleFeature feature;
+  };
+
+  // Computes the pseudo-normals and builds the hierarchy (Create, after validation).
+  void Build();
+  // Builds the subtree of the triangles order[begin, end) and returns its node index.
+  int BuildNode(int begin, int end, const std::vector<Vec3>& centroid, std::vector<int>* order);
+  // Tests the packed triangles [begin, end) against *best.
+  void Visit(int begin, int end, const Vec3& x, Candidate* best) const;
+  // The signed distance and gradient from the closest point.
+  double Finish(const Vec3& x, const Candidate& best, Vec3* gradient) const;
+
+  std::vector<Vec3> vertices_;
+  std::vector<Triangle> triangles_;
+  std::string name_;
+  Box3 bounds_;
+  double volume_ = 0.0;
+  std::vector<Node> nodes_;
+  std::vector<PackedTriangle> packed_;
+  // Pseudo-normals (Baerentzen & Aanaes 2005): unit face normals per triangle; per triangle
+  // edge k (corner k to k+1), the sum of the two adjacent face normals (angle pi each); per
+  // vertex, the sum of the incident face normals weighted by the incident angles.
+  std::vector<Vec3> face_normals_;
+  std::vector<std::array<Vec3, 3>> edge_normals_;
+  std::vector<Vec3> vertex_normals_;
+  // Below this distance (m) x counts as on the surface for the gradient.
+  double surface_tolerance_ = 0.0;
+};
+
+/// Reads the closed triangle meshes of a Wavefront OBJ file (m): each object or group ("o" or
+/// "g", a tinyobjloader shape) with faces becomes one TriangleMesh named after it, its polygons
+/// triangulated (ear clipping, orientation kept). Vertices may be shared between objects;
+/// normals, texture coordinates and materials are ignored. Errors name the file and the
+/// problem ("head.obj: cannot open: No such file or directory", "m.obj: invalid OBJ: ...",
+/// "m.obj: no faces", "m.obj: head: edge (12, 40) belongs to 1 triangle ...", vertex numbers
+/// 1-based as in the file); on failure *meshes is untouched. Never throws.
+bool LoadObjMeshes(const std::string& path, std::vector<TriangleMesh>* meshes, std::string* error);
+
+/// The union of spheres and closed triangle meshes a strand may touch (paper, section 3.1: "the
+/// body is approximated by a set of spheres"). Immutable once created; queries are thread-safe.
+class Body final : public Obstacle {
+ public:
+  /// An empty body: SignedDistance is +infinity everywhere.
+  Body() = default;
+
+  /// Builds a body from spheres (finite centres, finite radii > 0, non-empty names unique) and
+  /// valid meshes (TriangleMesh::Create). On failure *body is untouched, *error receives one
+  /// line ("spheres[2].radius: expected a finite number > 0 (m), got -0.1") and the function
+  /// returns false. Never throws.
+  static bool Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes, Body* body,
+                     std::string* error);
+
+  /// Minimum of the signed distances of the components (m). Outside every component this is
+  /// the exact distance to the union; inside, where components overlap, it is -max of the
+  /// depths, a lower bound of the true depth in the union, which is what a penalty needs (the
+  /// push-out direction is that of the deepest component). It is 1-Lipschitz (a minimum of
+  /// 1-Lipschitz functions). The gradient is that of the minimizing component (the first one in
+  /// sphere-then-mesh order on ties). Spheres cost one square root each and no allocation;
+  /// meshes are skipped when x is farther from their box than the best distance so far.
+  double SignedDistance(const Vec3& x, Vec3* gradient) const override;
+
+  /// Box around all the components (m); empty for an empty body.
+  const Box3& Bounds() const { return bounds_; }
+
+  /// The spheres, in the order given to Create.
+  const std::vector<Sphere>& spheres() const { return spheres_; }
+  /// The meshes, in the order given to Create.
+  const std::vector<TriangleMesh>& meshes() const { return meshes_; }
+
+  /// The sphere with this (non-empty) name, or null.
+  const Sphere* FindSphere(std::string_view name) const;
+
+ private:
+  std::vector<Sphere> spheres_;
+  // The spheres packed for the query loop: (cx, cy, cz, r).
+  std::vector<Eigen::Vector4d> packed_spheres_;
+  std::vector<TriangleMesh> meshes_;
+  Box3 bounds_;
+};
+
+}  // namespace ringlet

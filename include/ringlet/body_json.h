@@ -1,0 +1,31 @@
+// Body descriptions in JSON: spheres and OBJ meshes (docs/body.md).
+#pragma once
+
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <string_view>
+
+#include "ringlet/body.h"
+
+namespace ringlet {
+
+/// Builds a body from a JSON object
+///   {"spheres": [{"name": "head", "center": [0, 0, 0], "radius": 0.1}, ...],
+///    "meshes": [{"obj": "mannequin.obj"}, ...], "description": "..."}
+/// where every field is optional but the body needs at least one sphere or mesh: centres in m
+/// (3 finite numbers), radii in m (finite, > 0), names unique among the spheres, OBJ paths
+/// relative to base_directory (absolute paths are kept; LoadObjMeshes reads them, one closed
+/// component per OBJ object or group). Unknown fields are errors. path is the location of the
+/// object in the caller's document and prefixes every message ("body" gives
+/// "body.spheres[2].radius: expected a positive number (m), got -0.1"; empty for a document of
+/// its own). On success fills *body and returns true; on failure leaves *body untouched,
+/// writes one line into *error and returns false. Never throws.
+bool ParseBody(const nlohmann::json& document, std::string_view path,
+               const std::string& base_directory, Body* body, std::string* error);
+
+/// Reads a standalone body file (the object above at the top level); OBJ paths are relative
+/// to the file's directory. Every message starts with the file's path ("bodies/m.json: line 3,
+/// column 14: invalid JSON: ...", "bodies/m.json: spheres[0].radius: ..."). Never throws.
+bool LoadBody(const std::string& path, Body* body, std::string* error);
+
+}  // namespace ringlet

@@ -1,0 +1,123 @@
+// The body: a union of spheres and closed meshes, queried by the contact energy (docs/body.md).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ringlet/body.h"
+
+namespace ringlet {
+namespace {
+
+// A number as quoted in messages: the shortest %g form that reads back exactly (-0.1, not
+// -0.10000000000000001).
+std::string NumberText(double x) {
+  char text[32];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof(text), "%.*g", digits, x);
+    if (std::strtod(text, nullptr) == x) break;
+  }
+  return text;
+}
+
+}  // namespace
+
+bool Body::Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes, Body* body,
+                  std::string* error) {
+  std::set<std::string> names;
+  for (size_t i = 0; i < spheres.size(); ++i) {
+    const Sphere& s = spheres[i];
+    const std::string path = "spheres[" + std::to_string(i) + "]";
+    if (!s.center.allFinite()) {
+      if (error) *error = path + ".center: expected 3 finite numbers (m)";
+      return false;
+    }
+    if (!(std::isfinite(s.radius) && s.radius > 0.0)) {
+      if (error) {
+        *error = path + ".radius: expected a finite number > 0 (m), got " + NumberText(s.radius);
+      }
+      return false;
+    }
+    if (!s.name.empty() && !names.insert(s.name).second) {
+      if (error) *error = path + ".name: \"" + s.name + "\" is already the name of another sphere";
+      return false;
+    }
+  }
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    if (meshes[i].triangles().empty()) {
+      if (error) *error = "meshes[" + std::to_string(i) + "]: the mesh is empty";
+      return false;
+    }
+  }
+
+  Body result;
+  result.packed_spheres_.reserve(spheres.size());
+  for (const Sphere& s : spheres) {
+    result.packed_spheres_.emplace_back(s.center.x(), s.center.y(), s.center.z(), s.radius);
+    result.bounds_.extend(s.center - Vec3::Constant(s.radius));
+    result.bounds_.extend(s.center + Vec3::Constant(s.radius));
+  }
+  for (const TriangleMesh& m : meshes) result.bounds_.extend(m.bounds());
+  result.spheres_ = std::move(spheres);
+  result.meshes_ = std::move(meshes);
+  *body = std::move(result);
+  return true;
+}
+
+double Body::SignedDistance(const Vec3& x, Vec3* gradient) const {
+  // Spheres: |x - c| - r each, one square root, no allocation, no virtual call.
+  double best = std::numeric_limits<double>::infinity();
+  int best_sphere = -1;
+  const int sphere_count = static_cast<int>(packed_spheres_.size());
+  for (int i = 0; i < sphere_count; ++i) {
+    const Eigen::Vector4d& s = packed_spheres_[static_cast<size_t>(i)];
+    const double dx = x.x() - s(0), dy = x.y() - s(1), dz = x.z() - s(2);
+    const double d = std::sqrt(dx * dx + dy * dy + dz * dz) - s(3);
+    if (d < best) {
+      best = d;
+      best_sphere = i;
+    }
+  }
+  // Meshes: skipped when x is outside the mesh's box by more than the best distance (the
+  // distance to the box is then a lower bound of the mesh's signed distance).
+  int best_mesh = -1;
+  Vec3 mesh_gradient = Vec3::UnitZ();
+  for (size_t m = 0; m < meshes_.size(); ++m) {
+    const double box_distance = std::sqrt(meshes_[m].bounds().squaredExteriorDistance(x));
+    if (box_distance > 0.0 && box_distance >= best) continue;
+    Vec3 g;
+    const double d = meshes_[m].SignedDistance(x, gradient ? &g : nullptr);
+    if (d < best) {
+      best = d;
+      best_mesh = static_cast<int>(m);
+      if (gradient) mesh_gradient = g;
+    }
+  }
+  if (gradient) {
+    if (best_mesh >= 0) {
+      *gradient = mesh_gradient;
+    } else if (best_sphere >= 0) {
+      const Eigen::Vector4d& s = packed_spheres_[static_cast<size_t>(best_sphere)];
+      const Vec3 r = x - s.head<3>();
+      const double norm = r.norm();
+      *gradient = norm > 0.0 ? Vec3(r / norm) : Vec3::UnitZ();
+    } else {
+      *gradient = Vec3::UnitZ();
+    }
+  }
+  return best;
+}
+
+const Sphere* Body::FindSphere(std::string_view name) const {
+  if (name.empty()) return nullptr;
+  for (const Sphere& s : spheres_) {
+    if (s.name == name) return &s;
+  }
+  return nullptr;
+}
+
+}  // namespace ringlet

@@ -1,0 +1,285 @@
+// Body descriptions: JSON -> validated spheres and OBJ meshes (docs/body.md).
+//
+// Same message style as the scene files (src/io/scene_json.cpp): one line, the field path, what
+// was expected and what was found: "body.spheres[2].radius: expected a positive number (m), got
+// -0.1". The small path and value helpers repeat scene_json.cpp's, which are file-local there.
+#include "ringlet/body_json.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ringlet/atomic_file.h"
+
+namespace ringlet {
+namespace {
+
+using nlohmann::json;
+
+// Values quoted in error messages are cut to this many characters.
+constexpr size_t kMaxShownCharacters = 60;
+// nlohmann's own messages are cut to this many characters.
+constexpr size_t kMaxMessage = 200;
+
+bool IsPlainKey(const std::string& key) {
+  if (key.empty()) return false;
+  return std::all_of(key.begin(), key.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+// "body" + "spheres" -> "body.spheres"; odd keys quoted so that messages stay on one line.
+std::string Member(const std::string& path, const std::string& key) {
+  if (IsPlainKey(key)) return path.empty() ? key : path + "." + key;
+  return path + "[" + json(key).dump(-1, ' ', true, json::error_handler_t::replace) + "]";
+}
+
+std::string Element(const std::string& path, size_t index) {
+  return path + "[" + std::to_string(index) + "]";
+}
+
+std::string Truncate(std::string text, size_t max_bytes) {
+  if (text.size() <= max_bytes) return text;
+  size_t cut = max_bytes - 3;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+  return text.substr(0, cut) + "...";
+}
+
+// A value as quoted in a message: compact JSON, ASCII only, cut.
+std::string Show(const json& value) {
+  return Truncate(value.dump(-1, ' ', true, json::error_handler_t::replace), kMaxShownCharacters);
+}
+
+class Reader {
+ public:
+  const std::string& error() const { return error_; }
+
+  bool Fail(const std::string& path, const std::string& message) {
+    error_ = path.empty() ? message : path + ": " + message;
+    return false;
+  }
+  bool Expected(const std::string& field, const std::string& expected, const json& got) {
+    return Fail(field, "expected " + expected + ", got " + Show(got));
+  }
+  bool Missing(const std::string& field, const std::string& expected) {
+    return Fail(field, "missing required field (expected " + expected + ")");
+  }
+
+  // Every member of object must be one of known.
+  bool CheckFields(const json& object, const std::string& path,
+                   std::initializer_list<const char*> known) {
+    for (const auto& item : object.items()) {
+      const std::string& key = item.key();
+      if (std::any_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
+        continue;
+      }
+      std::string list;
+      for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + k;
+      return Fail(Member(path, key), "unknown field (known fields: " + list + ")");
+    }
+    return true;
+  }
+
+  // An optional array field: absent gives an empty view (nullptr), a non-array is an error.
+  bool ReadArray(const json& object, const std::string& path, const char* key,
+                 const char* expected, const json** out) {
+    *out = nullptr;
+    const auto it = object.find(key);
+    if (it == object.end()) return true;
+    if (!it->is_array()) return Expected(Member(path, key), expected, *it);
+    *out = &*it;
+    return true;
+  }
+
+ private:
+  std::string error_;
+};
+
+bool ParseSphere(Reader& reader, const json& object, const std::string& path, Sphere* sphere) {
+  if (!object.is_object()) {
+    return reader.Expected(path, "an object {\"center\": [x, y, z], \"radius\": r}", object);
+  }
+  if (!reader.CheckFields(object, path, {"name", "center", "radius"})) return false;
+
+  const auto name = object.find("name");
+  if (name != object.end()) {
+    if (!name->is_string()) return reader.Expected(Member(path, "name"), "a string", *name);
+    sphere->name = name->get<std::string>();
+  }
+
+  const char* center_expected = "an array of 3 finite numbers (m)";
+  const auto center = object.find("center");
+  if (center == object.end()) return reader.Missing(Member(path, "center"), center_expected);
+  if (!center->is_array() || center->size() != 3) {
+    return reader.Expected(Member(path, "center"), center_expected, *center);
+  }
+  for (size_t i = 0; i < 3; ++i) {
+    const json& x = (*center)[i];
+    if (!x.is_number() || !std::isfinite(x.get<double>())) {
+      return reader.Expected(Member(path, "center"), center_expected, *center);
+    }
+    sphere->center(static_cast<int>(i)) = x.get<double>();
+  }
+
+  const char* radius_expected = "a positive number (m)";
+  const auto radius = object.find("radius");
+  if (radius == object.end()) return reader.Missing(Member(path, "radius"), radius_expected);
+  if (!radius->is_number() || !std::isfinite(radius->get<double>()) ||
+      !(radius->get<double>() > 0.0)) {
+    return reader.Expected(Member(path, "radius"), radius_expected, *radius);
+  }
+  sphere->radius = radius->get<double>();
+  return true;
+}
+
+bool ParseMesh(Reader& reader, const json& object, const std::string& path,
+               const std::string& base_directory, std::vector<TriangleMesh>* meshes) {
+  if (!object.is_object()) return reader.Expected(path, "an object {\"obj\": \"file.obj\"}", object);
+  if (!reader.CheckFields(object, path, {"obj"})) return false;
+  const std::string field = Member(path, "obj");
+  const char* expected = "the path of an OBJ file (relative to the body file's directory)";
+  const auto obj = object.find("obj");
+  if (obj == object.end()) return reader.Missing(field, expected);
+  if (!obj->is_string() || obj->get<std::string>().empty()) {
+    return reader.Expected(field, expected, *obj);
+  }
+  const std::filesystem::path relative(obj->get<std::string>());
+  const std::string file = relative.is_absolute() || base_directory.empty()
+                               ? relative.string()
+                               : (std::filesystem::path(base_directory) / relative).string();
+  std::vector<TriangleMesh> loaded;
+  std::string why;
+  if (!LoadObjMeshes(file, &loaded, &why)) return reader.Fail(field, why);
+  for (TriangleMesh& m : loaded) meshes->push_back(std::move(m));
+  return true;
+}
+
+bool ParseBodyObject(Reader& reader, const json& document, const std::string& path,
+                     const std::string& base_directory, Body* out) {
+  const char* expected = "an object {\"spheres\": [...], \"meshes\": [...]}";
+  if (!document.is_object()) return reader.Expected(path, expected, document);
+  if (!reader.CheckFields(document, path, {"spheres", "meshes", "description"})) return false;
+
+  const auto description = document.find("description");
+  if (description != document.end() && !description->is_string()) {
+    return reader.Expected(Member(path, "description"), "a string", *description);
+  }
+
+  std::vector<Sphere> spheres;
+  const json* sphere_array = nullptr;
+  const std::string spheres_path = Member(path, "spheres");
+  if (!reader.ReadArray(document, path, "spheres", "an array of sphere objects", &sphere_array)) {
+    return false;
+  }
+  if (sphere_array) {
+    spheres.resize(sphere_array->size());
+    for (size_t i = 0; i < sphere_array->size(); ++i) {
+      if (!ParseSphere(reader, (*sphere_array)[i], Element(spheres_path, i), &spheres[i])) {
+        return false;
+      }
+      for (size_t j = 0; j < i; ++j) {
+        if (!spheres[i].name.empty() && spheres[j].name == spheres[i].name) {
+          return reader.Fail(Member(Element(spheres_path, i), "name"),
+                             "\"" + spheres[i].name + "\" is already the name of " +
+                                 Element(spheres_path, j) + " (names must be unique)");
+        }
+      }
+    }
+  }
+
+  std::vector<TriangleMesh> meshes;
+  const json* mesh_array = nullptr;
+  const std::string meshes_path = Member(path, "meshes");
+  if (!reader.ReadArray(document, path, "meshes", "an array of mesh objects", &mesh_array)) {
+    return false;
+  }
+  if (mesh_array) {
+    for (size_t i = 0; i < mesh_array->size(); ++i) {
+      if (!ParseMesh(reader, (*mesh_array)[i], Element(meshes_path, i), base_directory,
+                     &meshes)) {
+        return false;
+      }
+    }
+  }
+
+  if (spheres.empty() && meshes.empty()) {
+    return reader.Fail(path, "a body needs at least one sphere or mesh (\"spheres\", \"meshes\")");
+  }
+  std::string why;
+  Body body;
+  if (!Body::Create(std::move(spheres), std::move(meshes), &body, &why)) {
+    // Safety net: the field checks above should have caught everything.
+    return reader.Fail(path, why);
+  }
+  *out = std::move(body);
+  return true;
+}
+
+// 1-based line and column (in characters) of 1-based byte position byte.
+std::string LineColumnText(const std::string& text, size_t byte) {
+  const size_t index = std::min(byte == 0 ? 0 : byte - 1, text.size());
+  size_t line = 1, line_start = 0;
+  for (size_t i = 0; i < index; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      line_start = i + 1;
+    }
+  }
+  size_t column = 1;
+  for (size_t i = line_start; i < index; ++i) {
+    if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) ++column;
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+}  // namespace
+
+bool ParseBody(const nlohmann::json& document, std::string_view path,
+               const std::string& base_directory, Body* body, std::string* error) {
+  Reader reader;
+  try {
+    if (ParseBodyObject(reader, document, std::string(path), base_directory, body)) return true;
+  } catch (const std::exception& e) {
+    // Not expected (every access is type-checked first), but the library never throws.
+    reader.Fail(std::string(path), std::string("cannot read the body: ") + e.what());
+  }
+  if (error) *error = reader.error();
+  return false;
+}
+
+bool LoadBody(const std::string& path, Body* body, std::string* error) {
+  std::string text;
+  if (!ReadFile(path, &text, error)) return false;
+  json document;
+  try {
+    document = json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/false);
+  } catch (const json::parse_error& e) {
+    // Keep nlohmann's description after its own position, which counts columns differently.
+    std::string what = e.what();
+    const size_t column = what.find("column ");
+    const size_t colon = column == std::string::npos ? what.find("] ") : what.find(": ", column);
+    if (colon != std::string::npos) what = what.substr(colon + 2);
+    if (error) {
+      *error = path + ": " + LineColumnText(text, e.byte) +
+               ": invalid JSON: " + Truncate(what, kMaxMessage);
+    }
+    return false;
+  } catch (const std::exception& e) {
+    if (error) *error = path + ": invalid JSON: " + Truncate(e.what(), kMaxMessage);
+    return false;
+  }
+  const std::string directory = std::filesystem::path(path).parent_path().string();
+  std::string why;
+  if (!ParseBody(document, "", directory, body, &why)) {
+    if (error) *error = path + ": " + why;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace ringlet
