@@ -131,11 +131,14 @@ std::uint64_t WispSeed(std::uint64_t seed, std::uint64_t index);
 /// Generates the wisps of a whole head in parallel (TBB, across masters) and returns them in
 /// master order: wisp i (strands i N .. i N + N - 1) uses WispSeed(seed, i), so the output is
 /// bit-identical whatever the thread count. sections has one entry per master or a single one
-/// shared by all. On bad input (invalid options, master or section, size mismatch) returns empty
-/// curves and, if why is not null, a one-line message naming the field.
+/// shared by all. wisp_radii, when not null, gives each wisp's radius r_w (m, one per master),
+/// overriding options.wisp_radius and the automatic radius. On bad input (invalid options,
+/// master, section or radius, size mismatch) returns empty curves and, if why is not null, a
+/// one-line message naming the field.
 HairCurves GenerateWisps(const std::vector<FramedCentreline>& masters,
                          const std::vector<CrossSection>& sections, const WispOptions& options,
                          std::uint64_t seed, const Obstacle* obstacle = nullptr,
-                         std::string* why = nullptr);
+                         std::string* why = nullptr,
+                         const std::vector<double>* wisp_radii = nullptr);
 
 }  // namespace ringlet

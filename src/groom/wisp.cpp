@@ -333,9 +333,24 @@ void AppendWisp(const FramedCentreline& master, const CrossSection& section, dou
 
 HairCurves GenerateWisps(const std::vector<FramedCentreline>& masters,
                          const std::vector<CrossSection>& sections, const WispOptions& options,
-                         std::uint64_t seed, const Obstacle* obstacle, std::string* why) {
+                         std::uint64_t seed, const Obstacle* obstacle, std::string* why,
+                         const std::vector<double>* wisp_radii) {
   // Validate everything before writing anything.
   if (!options.IsValid(why)) return {};
+  if (wisp_radii) {
+    if (wisp_radii->size() != masters.size()) {
+      Fail(why, "wisp_radii: expected one per master (" + std::to_string(masters.size()) +
+                    "), got " + std::to_string(wisp_radii->size()));
+      return {};
+    }
+    for (size_t i = 0; i < wisp_radii->size(); ++i) {
+      if (!(std::isfinite((*wisp_radii)[i]) && (*wisp_radii)[i] >= 0.0)) {
+        Fail(why, "wisp_radii[" + std::to_string(i) + "]: expected a finite number >= 0 (m), got " +
+                      Got((*wisp_radii)[i]));
+        return {};
+      }
+    }
+  }
   if (!(sections.size() == 1 || sections.size() == masters.size())) {
     Fail(why, "sections: expected 1 or one per master (" + std::to_string(masters.size()) +
                   "), got " + std::to_string(sections.size()));
@@ -370,7 +385,8 @@ HairCurves GenerateWisps(const std::vector<FramedCentreline>& masters,
                     [&](const tbb::blocked_range<size_t>& range) {
                       for (size_t i = range.begin(); i != range.end(); ++i) {
                         const CrossSection& section = sections.size() == 1 ? sections[0] : sections[i];
-                        const double radius = ResolveWispRadius(masters[i], section, options);
+                        const double radius = wisp_radii ? (*wisp_radii)[i]
+                                                         : ResolveWispRadius(masters[i], section, options);
                         WriteWisp(masters[i], section, radius, options, WispSeed(seed, i), obstacle,
                                   curves.point_counts.data() + i * n,
                                   curves.points.data() + i * n * m,

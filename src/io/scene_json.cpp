@@ -15,21 +15,20 @@
 #include "ringlet/atomic_file.h"
 #include "ringlet/cross_section.h"
 #include "ringlet/material.h"
+#include "io/json_reader.h"
 
 namespace ringlet {
 namespace {
 
 using nlohmann::json;
+using internal::Member;
+using internal::Element;
+using internal::Show;
+using internal::NumberRule;
+using internal::Reader;
 
-// Values quoted in error messages are cut to this many characters.
-constexpr size_t kMaxShownCharacters = 60;
-// nlohmann's own messages (which quote the text read) are cut to this many characters.
-constexpr size_t kMaxMessage = 200;
 // Largest iteration budget a scene may ask for; more is almost certainly a typo.
 constexpr int kMaxIterationsLimit = 1000000000;
-// Unknown fields this close (edit distance) to a known one get a "did you mean" hint.
-constexpr size_t kSuggestionDistance = 2;
-
 // The scene's minimization methods, by their names in scene files.
 struct MethodEntry {
   const char* name;
@@ -42,92 +41,7 @@ constexpr MethodEntry kMethods[] = {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Paths and values in messages.
-
-// Keys made of letters, digits and underscores are shown bare; others are quoted.
-bool IsPlainKey(const std::string& key) {
-  if (key.empty()) return false;
-  return std::all_of(key.begin(), key.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
-  });
-}
-
-// The path of a member: "strands[0]" + "radius" -> "strands[0].radius"; odd keys are quoted
-// (escaped, ASCII only) so that a message always stays on one line: strands[0]["a\nb"].
-std::string Member(const std::string& path, const std::string& key) {
-  if (IsPlainKey(key)) return path.empty() ? key : path + "." + key;
-  return path + "[" + json(key).dump(-1, ' ', true, json::error_handler_t::replace) + "]";
-}
-
-// The path of an array element: "strands" + 2 -> "strands[2]".
-std::string Element(const std::string& path, size_t index) {
-  return path + "[" + std::to_string(index) + "]";
-}
-
-// text cut to at most max_bytes, at a UTF-8 character boundary, marked with "...".
-std::string Truncate(std::string text, size_t max_bytes) {
-  if (text.size() <= max_bytes) return text;
-  size_t cut = max_bytes - 3;
-  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
-  return text.substr(0, cut) + "...";
-}
-
-// A value as quoted in a message: compact JSON, ASCII only (control characters escaped), cut to
-// kMaxShownCharacters.
-std::string Show(const json& value) {
-  return Truncate(value.dump(-1, ' ', true, json::error_handler_t::replace), kMaxShownCharacters);
-}
-
-// Levenshtein distance, for "did you mean" hints on misspelt fields.
-size_t EditDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t substitution = diagonal + (a[i - 1] == b[j - 1] ? 0 : 1);
-      diagonal = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, substitution});
-    }
-  }
-  return row[b.size()];
-}
-
-// 1-based line and column (in characters, not bytes) of the character at 1-based byte position
-// byte (nlohmann's parse_error::byte: the last byte read, the one that broke the parse).
-void LineColumn(const std::string& text, size_t byte, size_t* line, size_t* column) {
-  const size_t index = std::min(byte == 0 ? 0 : byte - 1, text.size());
-  *line = 1;
-  size_t line_start = 0;
-  for (size_t i = 0; i < index; ++i) {
-    if (text[i] == '\n') {
-      ++*line;
-      line_start = i + 1;
-    }
-  }
-  // UTF-8 continuation bytes (10xxxxxx) do not start a character.
-  *column = 1;
-  for (size_t i = line_start; i < index; ++i) {
-    if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) ++*column;
-  }
-}
-
-std::string LineColumnText(const std::string& text, size_t byte) {
-  size_t line = 0, column = 0;
-  LineColumn(text, byte, &line, &column);
-  return "line " + std::to_string(line) + ", column " + std::to_string(column);
-}
-
-// ---------------------------------------------------------------------------------------------
 // Typed field readers. Each returns false after recording "path: message" in the reader.
-
-// What a number field accepts: always finite, and in range by accepts(); expected describes
-// both, with the unit, for messages ("a finite number > 0 (metres)").
-struct NumberRule {
-  const char* expected;
-  bool (*accepts)(double);
-};
 
 constexpr NumberRule kLengthRule{"a finite number > 0 (metres)", [](double x) { return x > 0.0; }};
 constexpr NumberRule kModulusRule{"a finite number > 0 (pascals)",
@@ -145,127 +59,6 @@ constexpr NumberRule kGradingRule{"a finite number >= 1 (last/first segment leng
                                   [](double x) { return x >= 1.0; }};
 constexpr NumberRule kToleranceRule{"a finite number in (0, 1)",
                                     [](double x) { return x > 0.0 && x < 1.0; }};
-
-class Reader {
- public:
-  const std::string& error() const { return error_; }
-
-  // Records "path: message" (or just message at the top level) and returns false.
-  bool Fail(const std::string& path, const std::string& message) {
-    error_ = path.empty() ? message : path + ": " + message;
-    return false;
-  }
-
-  // Every member of object must be one of known.
-  bool CheckFields(const json& object, const std::string& path,
-                   std::initializer_list<const char*> known) {
-    for (const auto& item : object.items()) {
-      const std::string& key = item.key();
-      if (std::any_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
-        continue;
-      }
-      std::string hint;
-      size_t best = kSuggestionDistance + 1;
-      for (const char* k : known) {
-        const size_t d = EditDistance(key, k);
-        if (d < best) {
-          best = d;
-          hint = std::string(" (did you mean \"") + k + "\"?)";
-        }
-      }
-      if (hint.empty()) {
-        hint = " (known fields: ";
-        for (const char* k : known) hint += std::string(k == *known.begin() ? "" : ", ") + k;
-        hint += ")";
-      }
-      return Fail(Member(path, key), "unknown field" + hint);
-    }
-    return true;
-  }
-
-  // A number field; when absent, required is an error and otherwise *out keeps its default.
-  bool ReadNumber(const json& object, const std::string& path, const char* key,
-                  const NumberRule& rule, bool required, double* out, bool* present = nullptr) {
-    if (present) *present = false;
-    const auto it = object.find(key);
-    const std::string field = Member(path, key);
-    if (it == object.end()) {
-      if (required) return Missing(field, rule.expected);
-      return true;
-    }
-    if (!it->is_number()) return Expected(field, rule.expected, *it);
-    const double x = it->get<double>();
-    if (!std::isfinite(x) || !rule.accepts(x)) return Expected(field, rule.expected, *it);
-    *out = x;
-    if (present) *present = true;
-    return true;
-  }
-
-  // An integer field in [min, max]; 15 and 15.0 are both accepted, 15.5 is not.
-  bool ReadInteger(const json& object, const std::string& path, const char* key, int min, int max,
-                   int* out, bool* present = nullptr) {
-    if (present) *present = false;
-    const auto it = object.find(key);
-    const std::string field = Member(path, key);
-    const std::string expected =
-        "an integer between " + std::to_string(min) + " and " + std::to_string(max);
-    if (it == object.end()) return true;
-    if (!it->is_number()) return Expected(field, expected, *it);
-    const double x = it->get<double>();
-    if (!std::isfinite(x) || x != std::floor(x) || x < min || x > max) {
-      return Expected(field, expected, *it);
-    }
-    *out = static_cast<int>(x);
-    if (present) *present = true;
-    return true;
-  }
-
-  bool ReadBool(const json& object, const std::string& path, const char* key, bool* out) {
-    const auto it = object.find(key);
-    if (it == object.end()) return true;
-    if (!it->is_boolean()) return Expected(Member(path, key), "true or false", *it);
-    *out = it->get<bool>();
-    return true;
-  }
-
-  // A fixed-size array of finite numbers.
-  template <int N>
-  bool ReadVector(const json& object, const std::string& path, const char* key, const char* unit,
-                  bool required, Eigen::Matrix<double, N, 1>* out) {
-    const auto it = object.find(key);
-    const std::string field = Member(path, key);
-    const std::string expected =
-        "an array of " + std::to_string(N) + " finite numbers (" + unit + ")";
-    if (it == object.end()) {
-      if (required) return Missing(field, expected);
-      return true;
-    }
-    if (!it->is_array() || it->size() != static_cast<size_t>(N)) {
-      return Expected(field, expected, *it);
-    }
-    Eigen::Matrix<double, N, 1> v;
-    for (int i = 0; i < N; ++i) {
-      const json& element = (*it)[static_cast<size_t>(i)];
-      if (!element.is_number() || !std::isfinite(element.get<double>())) {
-        return Expected(field, expected, *it);
-      }
-      v(i) = element.get<double>();
-    }
-    *out = v;
-    return true;
-  }
-
-  bool Missing(const std::string& field, const std::string& expected) {
-    return Fail(field, "missing required field (expected " + expected + ")");
-  }
-
-  bool Expected(const std::string& field, const std::string& expected, const json& got) {
-    return Fail(field, "expected " + expected + ", got " + Show(got));
-  }
-
- private:
-  std::string error_;
-};
 
 // ---------------------------------------------------------------------------------------------
 // The scene's objects.
@@ -516,78 +309,6 @@ bool ParseSceneDocument(Reader& reader, const json& document, Scene* out) {
   return true;
 }
 
-// The path of the first duplicate member in a document, found while parsing (nlohmann keeps the
-// last of duplicate members silently; a scene must not).
-class DuplicateFinder {
- public:
-  bool OnEvent(json::parse_event_t event, const json& parsed) {
-    switch (event) {
-      case json::parse_event_t::object_start:
-        BeginElement();
-        stack_.push_back(Frame{false, 0, {}, {}});
-        break;
-      case json::parse_event_t::array_start:
-        BeginElement();
-        stack_.push_back(Frame{true, 0, {}, {}});
-        break;
-      case json::parse_event_t::object_end:
-      case json::parse_event_t::array_end:
-        if (!stack_.empty()) stack_.pop_back();
-        break;
-      case json::parse_event_t::key:
-        if (!stack_.empty() && parsed.is_string()) {
-          Frame& top = stack_.back();
-          top.key = parsed.get<std::string>();
-          if (!top.keys.insert(top.key).second && duplicate_.empty()) duplicate_ = Path();
-        }
-        break;
-      case json::parse_event_t::value:
-        BeginElement();
-        break;
-    }
-    return true;  // keep every value
-  }
-
-  // Empty when there is no duplicate.
-  const std::string& duplicate() const { return duplicate_; }
-
-  // The path of the value being parsed when the parse stopped: the member after the last key,
-  // or the next element of an array.
-  std::string PendingPath() const {
-    std::string path;
-    for (size_t i = 0; i < stack_.size(); ++i) {
-      const Frame& frame = stack_[i];
-      const bool last = i + 1 == stack_.size();
-      path = frame.is_array ? Element(path, frame.next_index - (last ? 0 : 1))
-                            : Member(path, frame.key);
-    }
-    return path;
-  }
-
- private:
-  struct Frame {
-    bool is_array;
-    size_t next_index;  // arrays: index of the next element
-    std::string key;    // objects: the current member
-    std::set<std::string> keys;
-  };
-
-  void BeginElement() {
-    if (!stack_.empty() && stack_.back().is_array) ++stack_.back().next_index;
-  }
-
-  std::string Path() const {
-    std::string path;
-    for (const Frame& frame : stack_) {
-      path = frame.is_array ? Element(path, frame.next_index - 1) : Member(path, frame.key);
-    }
-    return path;
-  }
-
-  std::vector<Frame> stack_;
-  std::string duplicate_;
-};
-
 }  // namespace
 
 const char* MethodName(Method method) {
@@ -611,55 +332,7 @@ bool ParseScene(const nlohmann::json& document, Scene* scene, std::string* error
 
 bool ParseSceneText(const std::string& text, Scene* scene, std::string* error) {
   json document;
-  DuplicateFinder duplicates;
-  try {
-    document = json::parse(
-        text,
-        [&duplicates](int /*depth*/, json::parse_event_t event, json& parsed) {
-          return duplicates.OnEvent(event, parsed);
-        },
-        /*allow_exceptions=*/true, /*ignore_comments=*/false);
-  } catch (const json::parse_error& e) {
-    // nlohmann's text is "[json.exception.parse_error.101] parse error at line 2, column 0:
-    // syntax error ..."; keep the part after the position, which is recomputed from the byte
-    // offset (nlohmann counts a newline as column 0 of the next line).
-    std::string what = e.what();
-    const size_t column = what.find("column ");
-    const size_t colon = column == std::string::npos ? what.find("] ") : what.find(": ", column);
-    if (colon != std::string::npos) what = what.substr(colon + 2);
-    if (error) {
-      *error = LineColumnText(text, e.byte) + ": invalid JSON: " + Truncate(what, kMaxMessage);
-    }
-    return false;
-  } catch (const json::exception& e) {
-    // Number overflow (out_of_range.406: "number overflow parsing '1e999'") carries no position:
-    // the field is the value being parsed, the position that of the literal in the text.
-    std::string what = e.what();
-    const size_t bracket = what.find("] ");
-    if (bracket != std::string::npos) what = what.substr(bracket + 2);
-    const size_t open = what.find('\'');
-    const size_t close = open == std::string::npos ? open : what.find('\'', open + 1);
-    if (e.id != 406 || close == std::string::npos) {
-      if (error) *error = "invalid JSON: " + Truncate(what, kMaxMessage);
-      return false;
-    }
-    const std::string literal = what.substr(open + 1, close - open - 1);
-    std::string message = "expected a finite number, got " +
-                          Truncate(literal, kMaxShownCharacters) + " (beyond the range of a double";
-    const size_t at = text.find(literal);
-    if (at != std::string::npos) message += "; " + LineColumnText(text, at + 1);
-    message += ")";
-    const std::string path = duplicates.PendingPath();
-    if (error) *error = path.empty() ? message : path + ": " + message;
-    return false;
-  } catch (const std::exception& e) {
-    if (error) *error = std::string("cannot parse: ") + e.what();
-    return false;
-  }
-  if (!duplicates.duplicate().empty()) {
-    if (error) *error = duplicates.duplicate() + ": duplicate field (each field may appear once)";
-    return false;
-  }
+  if (!internal::ParseJsonText(text, &document, error)) return false;
   return ParseScene(document, scene, error);
 }
 

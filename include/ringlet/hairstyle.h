@@ -1,0 +1,133 @@
+// A full hairstyle (paper, section 3): body, scalp, hair type, master strands solved physically,
+// wisps of strands around them, and hull layers for volume.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "ringlet/body.h"
+#include "ringlet/hair_curves.h"
+#include "ringlet/hair_type.h"
+#include "ringlet/scalp.h"
+#include "ringlet/solve_strands.h"
+#include "ringlet/statics.h"
+#include "ringlet/strand_model.h"
+#include "ringlet/wisp.h"
+
+namespace ringlet {
+
+/// Self-collisions by multiple layer hulls (Lee & Ko, "Natural hairstyle modeling and
+/// animation", Graphical Models 63(2), 2001; the paper's section 3.1): every wisp is assigned a
+/// layer by the position of its root, and layer l collides with the body inflated by l times
+/// thickness. Roots near the crown get the outer layers, since their hair falls over the hair
+/// rooted lower down: with polar angle theta of a root from the head's up axis and theta_max
+/// the largest over all roots,
+///   l = min(count - 1, floor(count (1 - theta / theta_max))).
+/// count = 1 (or thickness = 0) turns the layers off: every wisp touches the bare body.
+struct HullLayers {
+  int count = 4;            ///< number of layers, >= 1
+  double thickness = 0.004; ///< offset between consecutive layers (m), >= 0
+};
+
+/// The hull layer of a root at polar angle theta (rad) when the largest polar angle of all roots
+/// is theta_max (rad, > 0): HullLayers' rule above.
+int HullLayerOf(const HullLayers& layers, double polar_angle, double max_polar_angle);
+
+/// Everything that defines a hairstyle; immutable once built (ParseHairstyle, or by hand).
+struct Hairstyle {
+  /// The body the hair collides with (spheres and meshes). Required.
+  std::shared_ptr<const Body> body;
+  /// Where the roots grow: a region of the head sphere, or chosen triangles of a body mesh.
+  std::variant<SphereScalp, MeshScalp> scalp;
+  /// Master roots: roots.count masters, Poisson-disk placed with roots.seed.
+  RootSamplingOptions roots;
+  /// Root tangents: tilt from the scalp normal toward a comb direction, optional parting.
+  CombOptions comb;
+  /// Fibre section, natural curl and material, with per-strand variation.
+  HairType hair_type;
+  /// Mean strand length before the per-strand length factor (m), > 0.
+  double length = 0.25;
+  /// Segments per master strand, >= 1.
+  int segments = 20;
+  /// Last/first segment-length ratio (>= 1); 0 selects RecommendedGradingRatio per strand.
+  double grading = 0.0;
+  /// Contact with the body: penalty stiffness (N/m^2, 0 = DefaultContactStiffness) and
+  /// midpoint samples per segment.
+  double contact_stiffness = 0.0;
+  int contact_samples = 4;
+  /// Hull layers for volume.
+  HullLayers layers;
+  /// Child strands around each master (strands_per_wisp, radius profile, jitter, ...).
+  WispOptions wisps;
+  /// Spread the children's roots over the master's share of the scalp: the root scale of the
+  /// wisp profile is raised to (Poisson-disk radius of the masters) / (mean r_w), so that a
+  /// full head has no bald gaps between wisps at the scalp (wisps.root_scale is a lower bound).
+  bool spread_roots = true;
+  /// Centreline samples per master segment handed to the wisp generator (>= 1).
+  int master_points_per_segment = 4;
+  /// The solver of every master.
+  SolveOptions solver;
+  /// Seed of the per-strand variation and of the wisps (roots use roots.seed).
+  std::uint64_t seed = 1;
+
+  /// Checks every field (and the parts' own IsValid); says which field and what was expected.
+  bool IsValid(std::string* why) const;
+};
+
+/// The master strands of a hairstyle, ready to solve: roots and one StrandModel per root.
+struct HairstyleMasters {
+  std::vector<Root> roots;
+  std::vector<StrandModel> models;
+  std::vector<int> layers;         ///< hull layer of each master
+  std::vector<double> wisp_radii;  ///< r_w of each master (m): WispRadius from the natural curl
+  WispOptions wisp_options;        ///< the hairstyle's wisp options with spread_roots applied
+  RootSamplingSummary root_summary;
+};
+
+/// Samples the roots and builds the master models: strand i takes SampleStrand(hair_type, seed,
+/// i) (section, natural curvature, material, length factor), segments graded as asked, root
+/// frame from the comb, and a contact model with the body whose clearance is the wisp radius
+/// r_w = WispRadius(strands_per_wisp, fibre radius, HelixCurliness(natural curvature)) (the
+/// paper's wisp thickness, so that the children stay outside the body) plus the layer offset.
+/// Returns false (with why) for an invalid hairstyle or a scalp on which no root fits.
+bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string* why);
+
+/// What grooming did.
+struct GroomSummary {
+  int masters = 0;             ///< master strands solved
+  int strands = 0;             ///< strands generated (wisps, masters included)
+  int points = 0;              ///< points of all strands
+  int converged = 0;           ///< masters whose solve converged
+  int unconverged = 0;         ///< masters whose solve did not converge (reported, kept)
+  int unstable = 0;            ///< converged masters found unstable
+  long iterations = 0;         ///< minimizer iterations over all masters
+  double max_penetration = 0.0;  ///< deepest master point below the body surface (m)
+  double solve_seconds = 0.0;  ///< wall time of the master solve (s)
+  double wisp_seconds = 0.0;   ///< wall time of the wisp generation (s)
+};
+
+/// A groomed head: the masters, their solutions and the generated strands.
+struct Groom {
+  HairstyleMasters masters;
+  std::vector<StrandSolution> solutions;  ///< one per master
+  HairCurves strands;                     ///< every strand, wisp by wisp in master order
+  GroomSummary summary;
+};
+
+/// Builds, solves (in parallel, BatchOptions) and grows the wisps of a hairstyle. The result
+/// does not depend on the thread count. Returns false (with why) only for invalid input;
+/// numerical trouble (unconverged or unstable masters) is counted in the summary.
+bool GroomHairstyle(const Hairstyle& style, const BatchOptions& batch, Groom* groom,
+                    std::string* why);
+
+/// Samples the solved masters (master_points_per_segment per segment) and generates the wisps
+/// around them, children pushed out of the body. Used by GroomHairstyle and by styling
+/// operations that re-solve masters.
+bool GrowWisps(const Hairstyle& style, const HairstyleMasters& masters,
+               const std::vector<StrandSolution>& solutions, HairCurves* strands,
+               std::string* why);
+
+}  // namespace ringlet

@@ -1,0 +1,176 @@
+// Reading JSON documents with one-line errors that name the field (private to io/).
+//
+// Every field is checked where it is read, so that an error names the field, what was expected
+// and what was found, in one line: "strands[2].radius: expected a finite number > 0 (metres),
+// got -1". Shared by the scene, body and hairstyle readers.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace ringlet::internal {
+
+using nlohmann::json;
+
+// Values quoted in error messages are cut to this many characters.
+constexpr size_t kMaxShownCharacters = 60;
+// nlohmann's own messages (which quote the text read) are cut to this many characters.
+constexpr size_t kMaxMessage = 200;
+// Unknown fields this close (edit distance) to a known one get a "did you mean" hint.
+constexpr size_t kSuggestionDistance = 2;
+
+
+// Keys made of letters, digits and underscores are shown bare; others are quoted.
+bool IsPlainKey(const std::string& key);
+// The path of a member: "strands[0]" + "radius" -> "strands[0].radius"; odd keys are quoted
+// (escaped, ASCII only) so that a message always stays on one line: strands[0]["a\nb"].
+std::string Member(const std::string& path, const std::string& key);
+// The path of an array element: "strands" + 2 -> "strands[2]".
+std::string Element(const std::string& path, size_t index);
+// text cut to at most max_bytes, at a UTF-8 character boundary, marked with "...".
+std::string Truncate(std::string text, size_t max_bytes);
+// A value as quoted in a message: compact JSON, ASCII only, cut to kMaxShownCharacters.
+std::string Show(const json& value);
+// Levenshtein distance, for "did you mean" hints on misspelt fields.
+size_t EditDistance(const std::string& a, const std::string& b);
+// "line L, column C" of the 1-based byte position in text.
+std::string LineColumnText(const std::string& text, size_t byte);
+
+// Parses text into *document, refusing duplicate members; on failure *error gets one line with
+// the position ("line 3, column 14: invalid JSON: ...") or the duplicate's path. Never throws.
+bool ParseJsonText(const std::string& text, json* document, std::string* error);
+
+// What a number field accepts: always finite, and in range by accepts(); expected describes
+// both, with the unit, for messages ("a finite number > 0 (metres)").
+struct NumberRule {
+  const char* expected;
+  bool (*accepts)(double);
+};
+
+class Reader {
+ public:
+  const std::string& error() const { return error_; }
+
+  // Records "path: message" (or just message at the top level) and returns false.
+  bool Fail(const std::string& path, const std::string& message) {
+    error_ = path.empty() ? message : path + ": " + message;
+    return false;
+  }
+
+  // Every member of object must be one of known.
+  bool CheckFields(const json& object, const std::string& path,
+                   std::initializer_list<const char*> known) {
+    for (const auto& item : object.items()) {
+      const std::string& key = item.key();
+      if (std::any_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
+        continue;
+      }
+      std::string hint;
+      size_t best = kSuggestionDistance + 1;
+      for (const char* k : known) {
+        const size_t d = EditDistance(key, k);
+        if (d < best) {
+          best = d;
+          hint = std::string(" (did you mean \"") + k + "\"?)";
+        }
+      }
+      if (hint.empty()) {
+        hint = " (known fields: ";
+        for (const char* k : known) hint += std::string(k == *known.begin() ? "" : ", ") + k;
+        hint += ")";
+      }
+      return Fail(Member(path, key), "unknown field" + hint);
+    }
+    return true;
+  }
+
+  // A number field; when absent, required is an error and otherwise *out keeps its default.
+  bool ReadNumber(const json& object, const std::string& path, const char* key,
+                  const NumberRule& rule, bool required, double* out, bool* present = nullptr) {
+    if (present) *present = false;
+    const auto it = object.find(key);
+    const std::string field = Member(path, key);
+    if (it == object.end()) {
+      if (required) return Missing(field, rule.expected);
+      return true;
+    }
+    if (!it->is_number()) return Expected(field, rule.expected, *it);
+    const double x = it->get<double>();
+    if (!std::isfinite(x) || !rule.accepts(x)) return Expected(field, rule.expected, *it);
+    *out = x;
+    if (present) *present = true;
+    return true;
+  }
+
+  // An integer field in [min, max]; 15 and 15.0 are both accepted, 15.5 is not.
+  bool ReadInteger(const json& object, const std::string& path, const char* key, int min, int max,
+                   int* out, bool* present = nullptr) {
+    if (present) *present = false;
+    const auto it = object.find(key);
+    const std::string field = Member(path, key);
+    const std::string expected =
+        "an integer between " + std::to_string(min) + " and " + std::to_string(max);
+    if (it == object.end()) return true;
+    if (!it->is_number()) return Expected(field, expected, *it);
+    const double x = it->get<double>();
+    if (!std::isfinite(x) || x != std::floor(x) || x < min || x > max) {
+      return Expected(field, expected, *it);
+    }
+    *out = static_cast<int>(x);
+    if (present) *present = true;
+    return true;
+  }
+
+  bool ReadBool(const json& object, const std::string& path, const char* key, bool* out) {
+    const auto it = object.find(key);
+    if (it == object.end()) return true;
+    if (!it->is_boolean()) return Expected(Member(path, key), "true or false", *it);
+    *out = it->get<bool>();
+    return true;
+  }
+
+  // A fixed-size array of finite numbers.
+  template <int N>
+  bool ReadVector(const json& object, const std::string& path, const char* key, const char* unit,
+                  bool required, Eigen::Matrix<double, N, 1>* out) {
+    const auto it = object.find(key);
+    const std::string field = Member(path, key);
+    const std::string expected =
+        "an array of " + std::to_string(N) + " finite numbers (" + unit + ")";
+    if (it == object.end()) {
+      if (required) return Missing(field, expected);
+      return true;
+    }
+    if (!it->is_array() || it->size() != static_cast<size_t>(N)) {
+      return Expected(field, expected, *it);
+    }
+    Eigen::Matrix<double, N, 1> v;
+    for (int i = 0; i < N; ++i) {
+      const json& element = (*it)[static_cast<size_t>(i)];
+      if (!element.is_number() || !std::isfinite(element.get<double>())) {
+        return Expected(field, expected, *it);
+      }
+      v(i) = element.get<double>();
+    }
+    *out = v;
+    return true;
+  }
+
+  bool Missing(const std::string& field, const std::string& expected) {
+    return Fail(field, "missing required field (expected " + expected + ")");
+  }
+
+  bool Expected(const std::string& field, const std::string& expected, const json& got) {
+    return Fail(field, "expected " + expected + ", got " + Show(got));
+  }
+
+ private:
+  std::string error_;
+};
+
+}  // namespace ringlet::internal
