@@ -72,6 +72,8 @@ struct Hairstyle {
   SolveOptions solver;
   /// Seed of the per-strand variation and of the wisps (roots use roots.seed).
   std::uint64_t seed = 1;
+  /// Gravitational acceleration (m/s^2), the same for every strand.
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);
 
   /// Checks every field (and the parts' own IsValid); says which field and what was expected.
   bool IsValid(std::string* why) const;

@@ -59,6 +59,7 @@ bool Hairstyle::IsValid(std::string* why) const {
     return Fail(why, "masters.points_per_segment: expected 1 to 64");
   }
   if (!solver.IsValid(&reason)) return Fail(why, "solver: " + reason);
+  if (!gravity.allFinite()) return Fail(why, "gravity: expected 3 finite numbers (m/s^2)");
   return true;
 }
 
@@ -91,6 +92,7 @@ bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string
     m.natural_curvature = p.natural_curvature;
     m.root_position = root.position;
     m.root_frame = root.frame;
+    m.gravity = style.gravity;
     const double length = style.length * p.length_factor;
     m.segment_lengths = UniformSegments(length, style.segments);
     const double ratio =

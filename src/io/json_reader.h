@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "ringlet/statics.h"
+
 namespace ringlet::internal {
 
 using nlohmann::json;
@@ -172,5 +174,10 @@ class Reader {
  private:
   std::string error_;
 };
+
+// The optional "solver" member of parent ({"method", "tolerance", "max_iterations",
+// "check_stability"}) into *options (defined with the scene reader, docs/scene-format.md).
+bool ParseSolverObject(Reader& reader, const json& parent, const std::string& parent_path,
+                       SolveOptions* options);
 
 }  // namespace ringlet::internal

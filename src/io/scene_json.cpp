@@ -243,10 +243,45 @@ bool ParseStrand(Reader& reader, const json& strand, const std::string& path, co
   return true;
 }
 
-bool ParseSolver(Reader& reader, const json& document, SolveOptions* options) {
-  const auto it = document.find("solver");
-  if (it == document.end()) return true;
-  const std::string path = "solver";
+bool ParseSceneDocument(Reader& reader, const json& document, Scene* out) {
+  if (!document.is_object()) {
+    return reader.Expected("", "a JSON object {\"strands\": [...]} at the top level", document);
+  }
+  if (!reader.CheckFields(document, "", {"gravity", "strands", "solver"})) return false;
+
+  Vec3 gravity(0.0, 0.0, -9.81);
+  if (!reader.ReadVector<3>(document, "", "gravity", "metres per second squared", false,
+                            &gravity)) {
+    return false;
+  }
+
+  const char* expected = "a non-empty array of strand objects";
+  const auto strands = document.find("strands");
+  if (strands == document.end()) return reader.Missing("strands", expected);
+  if (!strands->is_array() || strands->empty()) {
+    return reader.Expected("strands", expected, *strands);
+  }
+  Scene scene;
+  scene.strands.resize(strands->size());
+  for (size_t i = 0; i < strands->size(); ++i) {
+    if (!ParseStrand(reader, (*strands)[i], Element("strands", i), gravity, &scene.strands[i])) {
+      return false;
+    }
+  }
+  if (!internal::ParseSolverObject(reader, document, "", &scene.solver)) return false;
+  *out = std::move(scene);
+  return true;
+}
+
+}  // namespace
+
+namespace internal {
+
+bool ParseSolverObject(Reader& reader, const json& parent, const std::string& parent_path,
+                       SolveOptions* options) {
+  const auto it = parent.find("solver");
+  if (it == parent.end()) return true;
+  const std::string path = Member(parent_path, "solver");
   const json& solver = *it;
   if (!solver.is_object()) return reader.Expected(path, "an object", solver);
   if (!reader.CheckFields(solver, path,
@@ -279,37 +314,7 @@ bool ParseSolver(Reader& reader, const json& document, SolveOptions* options) {
   return true;
 }
 
-bool ParseSceneDocument(Reader& reader, const json& document, Scene* out) {
-  if (!document.is_object()) {
-    return reader.Expected("", "a JSON object {\"strands\": [...]} at the top level", document);
-  }
-  if (!reader.CheckFields(document, "", {"gravity", "strands", "solver"})) return false;
-
-  Vec3 gravity(0.0, 0.0, -9.81);
-  if (!reader.ReadVector<3>(document, "", "gravity", "metres per second squared", false,
-                            &gravity)) {
-    return false;
-  }
-
-  const char* expected = "a non-empty array of strand objects";
-  const auto strands = document.find("strands");
-  if (strands == document.end()) return reader.Missing("strands", expected);
-  if (!strands->is_array() || strands->empty()) {
-    return reader.Expected("strands", expected, *strands);
-  }
-  Scene scene;
-  scene.strands.resize(strands->size());
-  for (size_t i = 0; i < strands->size(); ++i) {
-    if (!ParseStrand(reader, (*strands)[i], Element("strands", i), gravity, &scene.strands[i])) {
-      return false;
-    }
-  }
-  if (!ParseSolver(reader, document, &scene.solver)) return false;
-  *out = std::move(scene);
-  return true;
-}
-
-}  // namespace
+}  // namespace internal
 
 const char* MethodName(Method method) {
   for (const MethodEntry& entry : kMethods) {
