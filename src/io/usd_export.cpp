@@ -1,0 +1,247 @@
+// USD text export of hair curves (UsdGeomBasisCurves). The text follows the usda grammar as
+// Pixar's own writer emits it: layer metadata in parentheses after "#usda 1.0", attribute
+// metadata in parentheses after the value, and time samples as "name.timeSamples = { t: v, }".
+#include "ringlet/usd_export.h"
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+
+#include "io/curves_check.h"
+#include "ringlet/atomic_file.h"
+
+namespace ringlet {
+namespace {
+
+using io_internal::AppendNumber;
+
+bool Fail(std::string* error, const std::string& what) {
+  if (error) *error = what;
+  return false;
+}
+
+bool IsIdentifier(const std::string& name) {
+  if (name.empty()) return false;
+  for (size_t i = 0; i < name.size(); ++i) {
+    const char c = name[i];
+    const bool letter = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_';
+    const bool digit = c >= '0' && c <= '9';
+    if (!(letter || (digit && i > 0))) return false;
+  }
+  return true;
+}
+
+void AppendTuple(std::string* out, const Vec3f& v) {
+  *out += '(';
+  AppendNumber(out, v.x());
+  *out += ", ";
+  AppendNumber(out, v.y());
+  *out += ", ";
+  AppendNumber(out, v.z());
+  *out += ')';
+}
+
+void AppendArray(std::string* out, const std::vector<Vec3f>& values) {
+  *out += '[';
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (i > 0) *out += ", ";
+    AppendTuple(out, values[i]);
+  }
+  *out += ']';
+}
+
+template <typename T>
+void AppendArray(std::string* out, const std::vector<T>& values) {
+  *out += '[';
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (i > 0) *out += ", ";
+    if constexpr (std::is_integral_v<T>) {
+      AppendNumber(out, static_cast<long long>(values[i]));
+    } else {
+      AppendNumber(out, values[i]);
+    }
+  }
+  *out += ']';
+}
+
+// UsdGeomCurves::ComputeExtent: bounding box of the points grown by half the largest width on
+// every side (as for a point cloud of spheres of that width). Computed in float like USD.
+std::vector<Vec3f> Extent(const HairCurves& curves) {
+  Vec3f lo = curves.points[0], hi = curves.points[0];
+  for (const Vec3f& x : curves.points) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const float half = *std::max_element(curves.widths.begin(), curves.widths.end()) / 2.0f;
+  return {lo - Vec3f::Constant(half), hi + Vec3f::Constant(half)};
+}
+
+// One attribute: either a single value or time samples, plus optional metadata.
+// value(frame, out) appends the value of a frame.
+template <typename ValueOf>
+void AppendAttribute(std::string* out, const char* declaration, const char* metadata,
+                     bool sampled, size_t frames, int start, const ValueOf& value) {
+  if (!sampled) {
+    *out += "    ";
+    *out += declaration;
+    *out += " = ";
+    value(0, out);
+    if (metadata) {
+      *out += " (\n        ";
+      *out += metadata;
+      *out += "\n    )";
+    }
+    *out += '\n';
+    return;
+  }
+  if (metadata) {
+    *out += "    ";
+    *out += declaration;
+    *out += " (\n        ";
+    *out += metadata;
+    *out += "\n    )\n";
+  }
+  *out += "    ";
+  *out += declaration;
+  *out += ".timeSamples = {\n";
+  for (size_t f = 0; f < frames; ++f) {
+    *out += "        ";
+    AppendNumber(out, static_cast<long long>(start) + static_cast<long long>(f));
+    *out += ": ";
+    value(f, out);
+    *out += ",\n";
+  }
+  *out += "    }\n";
+}
+
+// The shared writer: one frame gives plain values, several give time samples.
+bool Encode(std::span<const HairCurves> frames, bool sequence, const UsdExportOptions& options,
+            std::string* text, std::string* error) {
+  std::string why;
+  if (!options.IsValid(&why)) return Fail(error, "usd export options: " + why);
+  if (frames.empty()) return Fail(error, "frames: expected at least one frame, got none");
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const std::string name = sequence ? "frames[" + std::to_string(f) + "]" : "curves";
+    if (!io_internal::CheckHairCurves(frames[f], name, &why)) return Fail(error, why);
+    if (frames[f].colors.empty() != frames[0].colors.empty()) {
+      return Fail(error, name + ".colors: expected colours in every frame or in none (frame 0 " +
+                             (frames[0].colors.empty() ? "has none)" : "has them)"));
+    }
+  }
+  auto all_equal = [&](auto member) {
+    for (const HairCurves& c : frames) {
+      if (c.*member != frames[0].*member) return false;
+    }
+    return true;
+  };
+  const bool counts_sampled = sequence && !all_equal(&HairCurves::point_counts);
+  const bool widths_sampled = sequence && !all_equal(&HairCurves::widths);
+  const bool colors_sampled = sequence && !all_equal(&HairCurves::colors);
+  const bool with_colors = !frames[0].colors.empty();
+  bool any_points = false;
+  for (const HairCurves& c : frames) any_points = any_points || !c.points.empty();
+  const int start = options.start_time_code;
+
+  std::string out;
+  size_t points = 0;
+  for (const HairCurves& c : frames) points += c.points.size();
+  out.reserve(64 * points + 1024);  // ~3 numbers of <= 13 characters plus a width per point
+  out += "#usda 1.0\n(\n";
+  out += "    defaultPrim = \"" + options.prim_name + "\"\n";
+  out += "    doc = \"ringlet hair curves: ";
+  AppendNumber(&out, static_cast<long long>(frames[0].NumStrands()));
+  out += " strands, ";
+  AppendNumber(&out, static_cast<long long>(frames[0].NumPoints()));
+  out += " points";
+  if (sequence) {
+    out += " in the first of ";
+    AppendNumber(&out, static_cast<long long>(frames.size()));
+    out += " frames";
+  }
+  out += "; metres, z up; widths are fibre diameters\"\n";
+  if (sequence) {
+    out += "    endTimeCode = ";
+    AppendNumber(&out, static_cast<long long>(start) + static_cast<long long>(frames.size()) - 1);
+    out += "\n    framesPerSecond = ";
+    AppendNumber(&out, options.time_codes_per_second);
+    out += '\n';
+  }
+  out += "    metersPerUnit = 1\n";
+  if (sequence) {
+    out += "    startTimeCode = ";
+    AppendNumber(&out, static_cast<long long>(start));
+    out += "\n    timeCodesPerSecond = ";
+    AppendNumber(&out, options.time_codes_per_second);
+    out += '\n';
+  }
+  out += "    upAxis = \"Z\"\n)\n\n";
+  out += "def BasisCurves \"" + options.prim_name + "\"\n{\n";
+  out += "    uniform token type = \"linear\"\n";
+  out += "    uniform token wrap = \"nonperiodic\"\n";
+  const size_t n = frames.size();
+  AppendAttribute(&out, "int[] curveVertexCounts", nullptr, counts_sampled, n, start,
+                  [&](size_t f, std::string* o) { AppendArray(o, frames[f].point_counts); });
+  AppendAttribute(&out, "point3f[] points", nullptr, sequence, n, start,
+                  [&](size_t f, std::string* o) { AppendArray(o, frames[f].points); });
+  AppendAttribute(&out, "float[] widths", "interpolation = \"vertex\"", widths_sampled, n, start,
+                  [&](size_t f, std::string* o) { AppendArray(o, frames[f].widths); });
+  if (with_colors) {
+    AppendAttribute(&out, "color3f[] primvars:displayColor", "interpolation = \"uniform\"",
+                    colors_sampled, n, start,
+                    [&](size_t f, std::string* o) { AppendArray(o, frames[f].colors); });
+  }
+  if (any_points) {
+    AppendAttribute(&out, "float3[] extent", nullptr, sequence, n, start,
+                    [&](size_t f, std::string* o) {
+                      if (frames[f].points.empty()) {
+                        *o += "[]";
+                      } else {
+                        AppendArray(o, Extent(frames[f]));
+                      }
+                    });
+  }
+  out += "}\n";
+  *text = std::move(out);
+  return true;
+}
+
+}  // namespace
+
+bool UsdExportOptions::IsValid(std::string* why) const {
+  if (!IsIdentifier(prim_name)) {
+    if (why) *why = "prim_name: expected a USD identifier ([A-Za-z_][A-Za-z0-9_]*), got \"" +
+                    prim_name + "\"";
+    return false;
+  }
+  if (!std::isfinite(time_codes_per_second) || !(time_codes_per_second > 0.0)) {
+    if (why) *why = "time_codes_per_second: expected a finite number > 0";
+    return false;
+  }
+  return true;
+}
+
+bool EncodeUsda(const HairCurves& curves, const UsdExportOptions& options, std::string* text,
+                std::string* error) {
+  return Encode(std::span<const HairCurves>(&curves, 1), false, options, text, error);
+}
+
+bool EncodeUsdaSequence(const std::vector<HairCurves>& frames, const UsdExportOptions& options,
+                        std::string* text, std::string* error) {
+  return Encode(frames, true, options, text, error);
+}
+
+bool WriteUsda(const std::string& path, const HairCurves& curves, const UsdExportOptions& options,
+               bool overwrite, std::string* error) {
+  std::string text, why;
+  if (!EncodeUsda(curves, options, &text, &why)) return Fail(error, path + ": " + why);
+  return WriteFileAtomically(path, text, overwrite, error);
+}
+
+bool WriteUsdaSequence(const std::string& path, const std::vector<HairCurves>& frames,
+                       const UsdExportOptions& options, bool overwrite, std::string* error) {
+  std::string text, why;
+  if (!EncodeUsdaSequence(frames, options, &text, &why)) return Fail(error, path + ": " + why);
+  return WriteFileAtomically(path, text, overwrite, error);
+}
+
+}  // namespace ringlet
