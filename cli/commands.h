@@ -28,6 +28,9 @@ struct Command {
 /// `ringlet solve SCENE.json -o RESULT.json`: static equilibrium of every strand of a scene.
 Command AddSolveCommand(CLI::App* parent);
 
+/// `ringlet groom HAIRSTYLE.json -o OUTDIR/`: a full head of hair with standard file exports.
+Command AddGroomCommand(CLI::App* parent);
+
 /// Prints "ringlet: <kind>: <message>" as exactly one line on stderr: control characters in the
 /// message (a newline in a file name, say) are shown as '?'.
 inline void PrintDiagnostic(const char* kind, const std::string& message) {

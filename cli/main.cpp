@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   // Register every subcommand here; each lives in its own cli/<name>_command.cpp.
   const std::vector<Command> commands = {
       ringlet::cli::AddSolveCommand(&app),
+      ringlet::cli::AddGroomCommand(&app),
   };
 
   // CLI11 would report an unknown command word as "A subcommand is required": name it instead.

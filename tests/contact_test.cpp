@@ -62,7 +62,7 @@ StrandModel StrandOnSphere(double length, int segments, double clearance) {
 
 TEST(ContactEnergy, StraightStrandInsideAHalfSpaceHasTheClosedFormEnergy) {
   // A horizontal straight strand at z = 0 inside the solid z <= 1 mm: every sample penetrates by
-  // x = 1 mm + clearance, so E_c = 1/2 k x^2 L exactly (the midpoint rule is exact for constants).
+  // x = 1 mm + clearance, so E_c = 1/2 k x^2 L exactly (the rectangle rule is exact for constants).
   for (int m : {1, 3, 8}) {
     StrandModel s = MakeStrand(0.2, 10, 0.0, Vec3::Zero(), HorizontalFrame());
     s.contact.obstacle = std::make_shared<HalfSpaceObstacle>(1e-3);

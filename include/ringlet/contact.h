@@ -8,7 +8,7 @@
 
 namespace ringlet {
 
-/// One penalty force on the strand: at a midpoint sample of ContactModel that lies inside the
+/// One penalty force on the strand: at a sample of ContactModel that lies inside the
 /// clearance layer, the force is F = -dE_c/dx = w k x n (N), with w = l_i / m the sample's
 /// weight, x the penetration of the layer and n the outward normal of the obstacle.
 struct ContactForce {
@@ -30,7 +30,7 @@ struct ContactMeasure {
   double max_penetration = 0.0;
   /// Largest depth into the clearance layer, max(0, clearance - d) (m), same points.
   double max_clearance_violation = 0.0;
-  /// Number of midpoint samples inside the clearance layer (those that carry a force).
+  /// Number of samples inside the clearance layer (those that carry a force).
   int samples_in_contact = 0;
 };
 

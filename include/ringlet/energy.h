@@ -31,7 +31,7 @@ class LoadWorkspace {
 
  private:
   friend struct LoadSweep;
-  // One midpoint sample in contact: x = r_i + Q_i h with h = HelixChord(Omega_i, u).
+  // One sample in contact: x = r_i + Q_i h with h = HelixChord(Omega_i, u).
   struct ContactSample {
     int segment;
     double u;      // arc length inside the segment (m)

@@ -55,7 +55,7 @@ struct Hairstyle {
   /// Last/first segment-length ratio (>= 1); 0 selects RecommendedGradingRatio per strand.
   double grading = 0.0;
   /// Contact with the body: penalty stiffness (N/m^2, 0 = DefaultContactStiffness) and
-  /// midpoint samples per segment.
+  /// samples per segment.
   double contact_stiffness = 0.0;
   int contact_samples = 4;
   /// Hull layers for volume.

@@ -15,10 +15,11 @@ namespace ringlet {
 /// Contact of a strand with a rigid obstacle by an elastic penalty (paper, section 3.1): the
 /// energy
 ///   E_c = int_0^L 1/2 k x(s)^2 ds,   x(s) = max(0, clearance - d(r(s))),
-/// where d is the obstacle's signed distance, is added to E_e + E_g. The integral is the midpoint
-/// rule with samples_per_segment points inside each helical segment (at arc lengths
-/// (j + 1/2) l_i / m), so contact is felt between segment ends too. The root point itself is never
-/// a sample (it is clamped on the scalp).
+/// where d is the obstacle's signed distance, is added to E_e + E_g. The integral is a rectangle
+/// rule with m = samples_per_segment points on each helical segment, at arc lengths
+/// (j + 1) l_i / m, j = 0..m-1, each of weight l_i / m: contact is felt between segment ends, and
+/// every segment end, the tip included, is a sample. The root point itself is never a sample (it
+/// is clamped on the scalp).
 struct ContactModel {
   /// The obstacle (a body of spheres or meshes); null means no contact. Shared, never modified.
   std::shared_ptr<const Obstacle> obstacle;
@@ -28,7 +29,7 @@ struct ContactModel {
   /// Penalty stiffness k per unit length (N/m^2: force per length per metre of penetration).
   /// 0 selects DefaultContactStiffness.
   double stiffness = 0.0;
-  /// Midpoint samples per segment m >= 1.
+  /// Samples per segment m >= 1.
   int samples_per_segment = 4;
 };
 

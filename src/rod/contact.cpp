@@ -9,7 +9,7 @@
 namespace ringlet {
 namespace {
 
-// Visits every midpoint sample (segment i, arc u, weight w, position x) of ContactModel.
+// Visits every sample (segment i, arc u, weight w, position x) of ContactModel.
 template <typename Visit>
 void ForEachSample(const StrandModel& model, const VecX& curvatures, const StrandGeometry& g,
                    Visit visit) {
@@ -18,7 +18,7 @@ void ForEachSample(const StrandModel& model, const VecX& curvatures, const Stran
     const Vec3 omega = curvatures.segment<3>(3 * i);
     const double w = model.segment_lengths[i] / m;
     for (int j = 0; j < m; ++j) {
-      const double u = (j + 0.5) * w;
+      const double u = (j + 1) * w;
       visit(i, u, w, Vec3(g.points[i] + g.frames[i] * HelixChord(omega, u)));
     }
   }

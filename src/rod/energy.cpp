@@ -46,7 +46,7 @@ struct LoadSweep {
 
     // Forward sweep: Q_(i+1) = Q_i R_i, r_(i+1) = r_i + Q_i p_i with r_0 = 0 (the root is the
     // origin of heights, the paper's z(0) = 0); the segment contributes -f . (l_i r_i + Q_i c_i)
-    // to E_g (DESIGN.md) and 1/2 k x^2 l_i / m per penetrating midpoint sample to E_c.
+    // to E_g (DESIGN.md) and 1/2 k x^2 l_i / m per penetrating sample to E_c.
     Mat3 q = model.root_frame;
     Vec3 r = Vec3::Zero();
     double eg = 0.0, ec = 0.0;
@@ -63,9 +63,9 @@ struct LoadSweep {
       if (obstacle) {
         const double d_end = obstacle->SignedDistance(model.root_position + r_next, nullptr);
         if (std::min(d_start, d_end) - 0.5 * l < clearance) {
-          const double weight = l / m;  // midpoint rule
+          const double weight = l / m;  // samples at (j + 1) l / m, weight l / m
           for (int j = 0; j < m; ++j) {
-            const double u = (j + 0.5) * weight;
+            const double u = (j + 1) * weight;
             const Vec3 h = HelixChord(omega, u);
             Vec3 normal;
             const double d = obstacle->SignedDistance(model.root_position + r + q * h, &normal);

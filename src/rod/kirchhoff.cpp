@@ -68,7 +68,7 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
     s += model.segment_lengths[i];
   }
 
-  // Contact penalty forces are point loads at the midpoint samples (section 3.1). The moment
+  // Contact penalty forces are point loads at the samples (section 3.1). The moment
   // about r(u) of those beyond u is sum (x_k - r(u)) x F_k = sum x_k x F_k - r(u) x sum F_k:
   // suffix sums over the segments after i plus the samples of segment i beyond u.
   const std::vector<ContactForce> contacts = ComputeContactForces(model, curvatures);
@@ -110,8 +110,8 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
       return Vec3((g.frames[i] * part.rotation).transpose() * moment);  // material coordinates
     };
     int pieces = std::max(1, static_cast<int>(std::ceil(omega.norm() * l / kMaxTurnPerInterval)));
-    // With contact, the moment jumps at the samples (j + 1/2) l / m: make them piece boundaries.
-    if (!contacts.empty()) pieces = 2 * m * ((pieces + 2 * m - 1) / (2 * m));
+    // With contact, the moment jumps at the samples (j + 1) l / m: make them piece boundaries.
+    if (!contacts.empty()) pieces = m * ((pieces + m - 1) / m);
     const double h = l / pieces;
     Vec3 integral = Vec3::Zero();
     for (int p = 0; p < pieces; ++p) {

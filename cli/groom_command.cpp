@@ -1,0 +1,265 @@
+// `ringlet groom HAIRSTYLE.json -o OUTDIR/`: a full head of hair from a hairstyle file (paper,
+// section 3): master strands solved in parallel with body contact and hull layers, wisps around
+// them, written as .hair, .usda, .obj and JSON (docs/hairstyle-format.md, docs/file-formats.md).
+//
+// Exit codes: 0 every master converged to a stable equilibrium, 2 some did not (files are still
+// written and the summary says how many), 1 bad usage or input (nothing is written).
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "commands.h"
+#include "format.h"
+#include "progress.h"
+#include "ringlet/atomic_file.h"
+#include "ringlet/hair_file.h"
+#include "ringlet/hairstyle.h"
+#include "ringlet/hairstyle_json.h"
+#include "ringlet/obj_export.h"
+#include "ringlet/result_json.h"
+#include "ringlet/usd_export.h"
+
+namespace ringlet::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The files of a groom, by format name (--formats).
+struct OutputFile {
+  const char* format;
+  const char* name;
+};
+constexpr OutputFile kOutputs[] = {
+    {"hair", "strands.hair"},   // Cem Yuksel's binary hair format
+    {"usda", "strands.usda"},   // USD text, BasisCurves
+    {"obj", "strands.obj"},     // OBJ polylines
+    {"json", "masters.json"},   // the solved master strands and the summary
+};
+
+struct GroomArgs {
+  std::string hairstyle_path;
+  std::string output_dir;
+  std::string formats = "hair,usda,obj,json";
+  bool force = false;
+  bool quiet = false;
+  int threads = 0;
+  double hair_units_per_metre = 1.0;
+};
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// "hair,usda" -> {"hair", "usda"}; unknown names are an error naming the valid ones.
+bool ParseFormats(const std::string& text, std::set<std::string>* formats, std::string* error) {
+  std::stringstream stream(text);
+  std::string item;
+  std::string valid;
+  for (const OutputFile& o : kOutputs) valid += std::string(valid.empty() ? "" : ", ") + o.format;
+  while (std::getline(stream, item, ',')) {
+    bool known = false;
+    for (const OutputFile& o : kOutputs) known = known || item == o.format;
+    if (!known) {
+      *error = "--formats: unknown format \"" + item + "\" (expected a comma-separated list of " +
+               valid + ")";
+      return false;
+    }
+    formats->insert(item);
+  }
+  if (formats->empty()) {
+    *error = "--formats: expected at least one of " + valid;
+    return false;
+  }
+  return true;
+}
+
+// The output directory may exist (it is created otherwise), but none of the files to write may,
+// unless --force: nothing the user had is overwritten silently. Checked before any work.
+bool CheckOutputDirectory(const GroomArgs& args, const std::set<std::string>& formats,
+                          std::string* error) {
+  if (args.output_dir.empty()) {
+    *error = "--output: expected a directory name, got an empty string";
+    return false;
+  }
+  std::error_code ec;
+  const fs::file_status status = fs::status(args.output_dir, ec);
+  if (!fs::exists(status)) return true;
+  if (!fs::is_directory(status)) {
+    *error = args.output_dir + ": exists and is not a directory; give a directory to --output";
+    return false;
+  }
+  if (args.force) return true;
+  for (const OutputFile& o : kOutputs) {
+    if (!formats.count(o.format)) continue;
+    const fs::path file = fs::path(args.output_dir) / o.name;
+    if (fs::exists(file, ec)) {
+      *error = file.string() + ": already exists (use --force to overwrite it)";
+      return false;
+    }
+  }
+  return true;
+}
+
+// masters.json: the result document of the masters (docs/scene-format.md, "Result format") with
+// a "groom" object of counts and times.
+std::string MastersJson(const Groom& groom, double seconds) {
+  std::vector<StrandResult> results;
+  results.reserve(groom.solutions.size());
+  for (size_t i = 0; i < groom.solutions.size(); ++i) {
+    results.push_back(MakeStrandResult(groom.masters.models[i], groom.solutions[i], 1));
+  }
+  nlohmann::ordered_json document = ResultToJson(results, seconds);
+  const GroomSummary& s = groom.summary;
+  nlohmann::ordered_json layers = nlohmann::ordered_json::array();
+  for (int layer : groom.masters.layers) layers.push_back(layer);
+  nlohmann::ordered_json radii = nlohmann::ordered_json::array();
+  for (double r : groom.masters.wisp_radii) radii.push_back(r);
+  document["groom"] = {{"masters", s.masters},
+                       {"strands", s.strands},
+                       {"points", s.points},
+                       {"converged", s.converged},
+                       {"unconverged", s.unconverged},
+                       {"unstable", s.unstable},
+                       {"iterations", s.iterations},
+                       {"max_penetration", s.max_penetration},
+                       {"solve_seconds", s.solve_seconds},
+                       {"wisp_seconds", s.wisp_seconds},
+                       {"roots", groom.masters.root_summary.message},
+                       {"layers", std::move(layers)},
+                       {"wisp_radii", std::move(radii)}};
+  return document.dump(1) + "\n";
+}
+
+int RunGroom(const GroomArgs& args) {
+  std::string error;
+  std::set<std::string> formats;
+  if (!ParseFormats(args.formats, &formats, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  Hairstyle style;
+  if (!LoadHairstyle(args.hairstyle_path, &style, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  if (!CheckOutputDirectory(args, formats, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  HairFileOptions hair_options;
+  hair_options.units_per_metre = args.hair_units_per_metre;
+  if (!hair_options.IsValid(&error)) {
+    PrintError("--hair-units-per-metre: " + error);
+    return kExitBadInput;
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  Groom groom;
+  {
+    ProgressBar bar("solving masters", !args.quiet);
+    BatchOptions batch;
+    batch.threads = args.threads;
+    batch.progress = [&bar](int done, int total) { bar.Update(done, total); };
+    if (!GroomHairstyle(style, batch, &groom, &error)) {
+      bar.Finish();
+      PrintError(args.hairstyle_path + ": " + error);
+      return kExitBadInput;
+    }
+  }
+
+  // Encode everything first, then write each file atomically: on an encoding error nothing is
+  // written.
+  const auto write_start = std::chrono::steady_clock::now();
+  std::vector<std::pair<std::string, std::string>> files;  // (name, contents)
+  for (const OutputFile& o : kOutputs) {
+    if (!formats.count(o.format)) continue;
+    std::string contents;
+    bool ok = true;
+    const std::string format = o.format;
+    if (format == "hair") {
+      ok = EncodeHairFile(groom.strands, hair_options, &contents, &error);
+    } else if (format == "usda") {
+      ok = EncodeUsda(groom.strands, UsdExportOptions{}, &contents, &error);
+    } else if (format == "obj") {
+      ok = EncodeObj(groom.strands, &contents, &error);
+    } else {
+      contents = MastersJson(groom, SecondsSince(start));
+    }
+    if (!ok) {
+      PrintError(std::string(o.name) + ": " + error);
+      return kExitBadInput;
+    }
+    files.emplace_back(o.name, std::move(contents));
+  }
+  std::error_code ec;
+  fs::create_directories(args.output_dir, ec);
+  if (ec) {
+    PrintError(args.output_dir + ": cannot create the directory: " + ec.message());
+    return kExitBadInput;
+  }
+  for (const auto& [name, contents] : files) {
+    const std::string path = (fs::path(args.output_dir) / name).string();
+    if (!WriteFileAtomically(path, contents, args.force, &error)) {
+      PrintError(error);
+      return kExitBadInput;
+    }
+  }
+  const double write_seconds = SecondsSince(write_start);
+
+  const GroomSummary& s = groom.summary;
+  const bool all_good = s.unconverged == 0 && s.unstable == 0;
+  if (!args.quiet) {
+    std::printf("%s\n", groom.masters.root_summary.message.c_str());
+    std::printf(
+        "groomed %d masters (%d converged, %d unconverged, %d unstable; %ld iterations), "
+        "%d strands, %d points\n",
+        s.masters, s.converged, s.unconverged, s.unstable, s.iterations, s.strands, s.points);
+    std::printf("max penetration %.3g mm; solve %s, wisps %s, write %s, total %s -> %s\n",
+                s.max_penetration * 1e3, FormatSeconds(s.solve_seconds).c_str(),
+                FormatSeconds(s.wisp_seconds).c_str(), FormatSeconds(write_seconds).c_str(),
+                FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
+    if (!all_good) {
+      PrintWarning(Format("%d of %d masters did not reach a stable equilibrium (see masters.json)",
+                          s.unconverged + s.unstable, s.masters));
+    }
+  }
+  return all_good ? kExitSuccess : kExitUnsolved;
+}
+
+}  // namespace
+
+Command AddGroomCommand(CLI::App* parent) {
+  auto args = std::make_shared<GroomArgs>();
+  CLI::App* app = parent->add_subcommand(
+      "groom",
+      "Groom a full head of hair from a hairstyle file: master strands solved with body "
+      "contact, wisps around them; writes strands.hair, strands.usda, strands.obj and "
+      "masters.json into the output directory. Exit code 0 when every master converged to a "
+      "stable equilibrium, 2 when some did not (files are still written), 1 on bad usage or "
+      "input (nothing is written).");
+  app->add_option("hairstyle", args->hairstyle_path,
+                  "Hairstyle file (JSON, see docs/hairstyle-format.md)")
+      ->required();
+  app->add_option("-o,--output", args->output_dir, "Output directory (created if missing)")
+      ->required();
+  app->add_option("--formats", args->formats,
+                  "Comma-separated files to write: hair, usda, obj, json (default: all)");
+  app->add_option("--hair-units-per-metre", args->hair_units_per_metre,
+                  "Length unit of the .hair file per metre (default 1: metres; 100: cm)");
+  app->add_flag("--force", args->force, "Overwrite existing output files");
+  app->add_option("--threads", args->threads,
+                  "Worker threads (default 0: all cores); results do not depend on it")
+      ->check(CLI::Range(0, 1024));
+  app->add_flag("-q,--quiet", args->quiet,
+                "Print no summary, progress or warning (errors still go to stderr)");
+  return Command{app, [args] { return RunGroom(*args); }};
+}
+
+}  // namespace ringlet::cli
