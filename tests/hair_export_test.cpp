@@ -197,6 +197,20 @@ TEST(HairFile, HeaderFieldsSitAtTheSpecificationOffsets) {
   EXPECT_EQ(b.size(), 128u + 2 * 2 + 12 * 5);
 }
 
+TEST(HairFile, NoStrandsIsAHeaderOnlyFile) {
+  std::string b, error;
+  ASSERT_TRUE(EncodeHairFile(HairCurves(), HairFileOptions(), &b, &error)) << error;
+  ASSERT_EQ(b.size(), 128u);
+  EXPECT_EQ(U32At(b, 4), 0u);
+  EXPECT_EQ(U32At(b, 8), 0u);
+  HairCurves back = MakeCurves({2}, true, 1);
+  ASSERT_TRUE(DecodeHairFile(b, &back, &error)) << error;
+  EXPECT_EQ(back.NumStrands(), 0);
+  EXPECT_EQ(back.NumPoints(), 0);
+  EXPECT_TRUE(back.widths.empty());
+  EXPECT_TRUE(back.colors.empty());
+}
+
 TEST(HairFile, DecodesAHandBuiltFileWithOnlyPoints) {
   // Two strands of default 2 segments (3 points), default thickness 0.5 (file units).
   std::string b = Header(2, 6, 2, 2, 0.5f);
@@ -243,7 +257,9 @@ TEST(HairFile, UnitsPerMetreScalesLengths) {
   std::string b, error;
   ASSERT_TRUE(EncodeHairFile(curves, options, &b, &error)) << error;
   EXPECT_EQ(F32At(b, 128), static_cast<float>(double(curves.points[0].x()) * 100.0));
-  EXPECT_EQ(F32At(b, 20), F32At(b, 20));  // finite
+  double mean_width = 0.0;  // default thickness: the mean width, in centimetres
+  for (float w : curves.widths) mean_width += w;
+  EXPECT_EQ(F32At(b, 20), static_cast<float>(mean_width / 6.0 * 100.0));
   HairCurves back;
   ASSERT_TRUE(DecodeHairFile(b, &back, &error, 100.0)) << error;
   for (int i = 0; i < 6; ++i) {

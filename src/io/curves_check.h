@@ -16,6 +16,10 @@ namespace ringlet::io_internal {
 /// one line that starts with name and the field ("frames[2].widths[7]: ...").
 bool CheckHairCurves(const HairCurves& curves, std::string_view name, std::string* why);
 
+/// Writes the shortest decimal text that reads back as exactly value at p (room for 16
+/// characters needed: at most 15 for a float) and returns the end. std::to_chars: no locale.
+inline char* WriteNumber(char* p, float value) { return std::to_chars(p, p + 16, value).ptr; }
+
 /// Appends the shortest decimal text that reads back as exactly value (std::to_chars, so no
 /// locale and the same text on every run); integral values print without a decimal point.
 inline void AppendNumber(std::string* out, float value) {

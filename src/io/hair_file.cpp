@@ -137,7 +137,10 @@ bool EncodeHairFile(const HairCurves& curves, const HairFileOptions& options, st
 
   const size_t size = kHeaderSize + (with_segments ? 2 * strands : 0) + 12 * points +
                       (options.store_thickness ? 4 * points : 0) + (with_colors ? 12 * points : 0);
-  std::string out(size, '\0');
+  // Everything is checked: from here on nothing fails, so write straight into *bytes (reusing
+  // its capacity: first-touching a fresh 50-MB buffer costs more than encoding into it).
+  std::string& out = *bytes;
+  out.assign(size, '\0');
   char* p = out.data();
   // Header.
   std::memcpy(p, "HAIR", 4);
@@ -176,7 +179,6 @@ bool EncodeHairFile(const HairCurves& curves, const HairFileOptions& options, st
       }
     }
   }
-  *bytes = std::move(out);
   return true;
 }
 

@@ -16,8 +16,11 @@ bool EncodeObj(const HairCurves& curves, std::string* text, std::string* error) 
     return false;
   }
   const bool with_colors = !curves.colors.empty();
-  std::string out;
-  out.reserve(48 * curves.points.size() + (with_colors ? 24 * curves.points.size() : 0) + 512);
+  // Everything is checked: from here on nothing fails, so write straight into *text (reusing
+  // its capacity).
+  std::string& out = *text;
+  out.clear();
+  out.reserve(56 * curves.points.size() + (with_colors ? 24 * curves.points.size() : 0) + 512);
   out += "# ringlet hair curves: ";
   AppendNumber(&out, static_cast<long long>(curves.NumStrands()));
   out += " strands, ";
@@ -27,21 +30,27 @@ bool EncodeObj(const HairCurves& curves, std::string* text, std::string* error) 
   out += with_colors ? "; 'v x y z r g b' carries the strand colour\n" : "\n";
   out += "o hair\n";
   size_t first = 0;
+  std::string color;  // " r g b" of the strand, formatted once and repeated on its points
   for (size_t k = 0; k < curves.point_counts.size(); ++k) {
-    for (size_t i = first; i < first + curves.point_counts[k]; ++i) {
-      const Vec3f& x = curves.points[i];
-      out += "v ";
-      AppendNumber(&out, x.x());
-      out += ' ';
-      AppendNumber(&out, x.y());
-      out += ' ';
-      AppendNumber(&out, x.z());
-      if (with_colors) {
-        for (int c = 0; c < 3; ++c) {
-          out += ' ';
-          AppendNumber(&out, curves.colors[k][c]);
-        }
+    if (with_colors) {
+      color.clear();
+      for (int c = 0; c < 3; ++c) {
+        color += ' ';
+        AppendNumber(&color, curves.colors[k][c]);
       }
+    }
+    for (size_t i = first; i < first + curves.point_counts[k]; ++i) {
+      // "v x y z" formatted in a local buffer and appended once.
+      const Vec3f& x = curves.points[i];
+      char buffer[64];
+      char* p = buffer;
+      *p++ = 'v';
+      for (int c = 0; c < 3; ++c) {
+        *p++ = ' ';
+        p = io_internal::WriteNumber(p, x[c]);
+      }
+      out.append(buffer, p);
+      out += color;
       out += '\n';
     }
     first += curves.point_counts[k];
@@ -56,7 +65,6 @@ bool EncodeObj(const HairCurves& curves, std::string* text, std::string* error) 
     out += '\n';
     first += count;
   }
-  *text = std::move(out);
   return true;
 }
 

@@ -31,14 +31,21 @@ bool IsIdentifier(const std::string& name) {
   return true;
 }
 
+// "(x, y, z)", formatted in a local buffer and appended once (appending piece by piece costs
+// more than the number formatting).
 void AppendTuple(std::string* out, const Vec3f& v) {
-  *out += '(';
-  AppendNumber(out, v.x());
-  *out += ", ";
-  AppendNumber(out, v.y());
-  *out += ", ";
-  AppendNumber(out, v.z());
-  *out += ')';
+  char buffer[64];
+  char* p = buffer;
+  *p++ = '(';
+  p = io_internal::WriteNumber(p, v.x());
+  *p++ = ',';
+  *p++ = ' ';
+  p = io_internal::WriteNumber(p, v.y());
+  *p++ = ',';
+  *p++ = ' ';
+  p = io_internal::WriteNumber(p, v.z());
+  *p++ = ')';
+  out->append(buffer, p);
 }
 
 void AppendArray(std::string* out, const std::vector<Vec3f>& values) {
@@ -142,7 +149,10 @@ bool Encode(std::span<const HairCurves> frames, bool sequence, const UsdExportOp
   for (const HairCurves& c : frames) any_points = any_points || !c.points.empty();
   const int start = options.start_time_code;
 
-  std::string out;
+  // Everything is checked: from here on nothing fails, so write straight into *text (reusing
+  // its capacity).
+  std::string& out = *text;
+  out.clear();
   size_t points = 0;
   for (const HairCurves& c : frames) points += c.points.size();
   out.reserve(64 * points + 1024);  // ~3 numbers of <= 13 characters plus a width per point
@@ -201,7 +211,6 @@ bool Encode(std::span<const HairCurves> frames, bool sequence, const UsdExportOp
                     });
   }
   out += "}\n";
-  *text = std::move(out);
   return true;
 }
 
