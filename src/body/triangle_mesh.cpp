@@ -70,6 +70,14 @@ std::string ShortNumber(double x) {
   return text;
 }
 
+// Squared distance from x to the box (0 inside), branch-free: per axis the excess
+// max(lo - x, x - hi, 0). Eigen's AlignedBox::squaredExteriorDistance branches per axis, which
+// the query's unpredictable boxes make slow.
+double BoxDistanceSquared(const Box3& box, const Vec3& x) {
+  const Vec3 excess = (box.min() - x).cwiseMax(x - box.max()).cwiseMax(0.0);
+  return excess.squaredNorm();
+}
+
 bool Fail(const std::string& name, const std::string& message, std::string* error) {
   if (error) *error = name.empty() ? message : name + ": " + message;
   return false;
@@ -452,8 +460,8 @@ double TriangleMesh::SignedDistance(const Vec3& x, Vec3* gradient) const {
     } else {
       int near = node + 1;
       int far = n.first_or_second;
-      double near_d2 = nodes_[static_cast<size_t>(near)].box.squaredExteriorDistance(x);
-      double far_d2 = nodes_[static_cast<size_t>(far)].box.squaredExteriorDistance(x);
+      double near_d2 = BoxDistanceSquared(nodes_[static_cast<size_t>(near)].box, x);
+      double far_d2 = BoxDistanceSquared(nodes_[static_cast<size_t>(far)].box, x);
       if (far_d2 < near_d2) {
         std::swap(near, far);
         std::swap(near_d2, far_d2);
@@ -471,7 +479,7 @@ double TriangleMesh::SignedDistance(const Vec3& x, Vec3* gradient) const {
     bool found = false;
     while (top > 0) {
       const int candidate = stack[--top];
-      if (nodes_[static_cast<size_t>(candidate)].box.squaredExteriorDistance(x) <
+      if (BoxDistanceSquared(nodes_[static_cast<size_t>(candidate)].box, x) <
           best.distance_squared) {
         node = candidate;
         found = true;
