@@ -1,2 +1,202 @@
-// Body descriptions in JSON (src/io/body_json.cpp).
+// Body descriptions in JSON (src/io/body_json.cpp): the shipped mannequins, paths in messages,
+// every rejected field.
 #include "ringlet/body_json.h"
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace ringlet {
+namespace {
+
+using nlohmann::json;
+
+std::string Examples() { return RINGLET_EXAMPLES_DIR; }
+
+// A fresh empty directory for file tests, removed by the destructor.
+class TempDirectory {
+ public:
+  TempDirectory() {
+    std::string pattern = ::testing::TempDir() + "ringlet_body_json_XXXXXX";
+    path_ = ::mkdtemp(pattern.data()) ? pattern : std::string();
+  }
+  ~TempDirectory() {
+    std::error_code ec;
+    if (!path_.empty()) std::filesystem::remove_all(path_, ec);
+  }
+  std::string Write(const std::string& name, const std::string& contents) const {
+    const std::string file = path_ + "/" + name;
+    std::ofstream(file) << contents;
+    return file;
+  }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+// The box [-1, 1]^3 as an OBJ file of 6 quads.
+const char* kBoxObj =
+    "o box\nv -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\n"
+    "v 1 1 1\nf 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+
+// The error of ParseBody on document under the prefix "body", expecting failure.
+std::string Error(const json& document, const std::string& base = "") {
+  Body body;
+  std::string error;
+  EXPECT_FALSE(ParseBody(document, "body", base, &body, &error)) << document.dump();
+  EXPECT_TRUE(body.spheres().empty());  // untouched
+  return error;
+}
+
+TEST(BodyJson, ParsesSpheres) {
+  const json document = json::parse(R"({
+    "description": "two spheres",
+    "spheres": [{"name": "head", "center": [0, 0, 0], "radius": 0.1},
+                {"center": [0, 0, -0.15], "radius": 0.05}]
+  })");
+  Body body;
+  std::string error;
+  ASSERT_TRUE(ParseBody(document, "body", "", &body, &error)) << error;
+  ASSERT_EQ(body.spheres().size(), 2u);
+  const Sphere* head = body.FindSphere("head");
+  ASSERT_NE(head, nullptr);
+  EXPECT_EQ(head->center, Vec3::Zero());
+  EXPECT_EQ(head->radius, 0.1);
+  EXPECT_EQ(body.spheres()[1].name, "");
+  // Closed forms: 0.2 above the head's centre is 0.1 outside; the union's box.
+  EXPECT_NEAR(body.SignedDistance(Vec3(0, 0, 0.2), nullptr), 0.1, 1e-16);
+  EXPECT_TRUE(body.Bounds().isApprox(Box3(Vec3(-0.1, -0.1, -0.2), Vec3(0.1, 0.1, 0.1)), 1e-15));
+}
+
+TEST(BodyJson, MessagesNameTheFieldUnderThePrefix) {
+  json spheres = json::parse(R"({"spheres": [
+    {"center": [0, 0, 0], "radius": 0.1}, {"center": [0, 0, 0], "radius": 0.1},
+    {"center": [0, 0, 0], "radius": -0.1}]})");
+  EXPECT_EQ(Error(spheres), "body.spheres[2].radius: expected a positive number (m), got -0.1");
+
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [], "colour": "red"})")),
+            "body.colour: unknown field (known fields: spheres, meshes, description)");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [{"center": [0, 0, 0], "radius": 1, "r": 2}]})")),
+            "body.spheres[0].r: unknown field (known fields: name, center, radius)");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [{"radius": 1}]})")),
+            "body.spheres[0].center: missing required field (expected an array of 3 finite "
+            "numbers (m))");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [{"center": [0, 0], "radius": 1}]})")),
+            "body.spheres[0].center: expected an array of 3 finite numbers (m), got [0,0]");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [{"center": [0, "a", 0], "radius": 1}]})")),
+            "body.spheres[0].center: expected an array of 3 finite numbers (m), got [0,\"a\",0]");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [{"center": [0, 0, 0]}]})")),
+            "body.spheres[0].radius: missing required field (expected a positive number (m))");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [{"center": [0, 0, 0], "radius": "big"}]})")),
+            "body.spheres[0].radius: expected a positive number (m), got \"big\"");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [{"center": [0, 0, 0], "radius": 0}]})")),
+            "body.spheres[0].radius: expected a positive number (m), got 0");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [{"name": 3, "center": [0, 0, 0], "radius": 1}]})")),
+            "body.spheres[0].name: expected a string, got 3");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [{"name": "a", "center": [0, 0, 0], "radius": 1},
+                                              {"name": "a", "center": [1, 0, 0], "radius": 1}]})")),
+            "body.spheres[1].name: \"a\" is already the name of body.spheres[0] (names must be "
+            "unique)");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [1]})")),
+            "body.spheres[0]: expected an object {\"center\": [x, y, z], \"radius\": r}, got 1");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": {"center": [0, 0, 0]}})")),
+            "body.spheres: expected an array of sphere objects, got {\"center\":[0,0,0]}");
+  EXPECT_EQ(Error(json::parse(R"({"meshes": "a.obj"})")),
+            "body.meshes: expected an array of mesh objects, got \"a.obj\"");
+  EXPECT_EQ(Error(json::parse(R"({"meshes": [{}]})")),
+            "body.meshes[0].obj: missing required field (expected the path of an OBJ file "
+            "(relative to the body file's directory))");
+  EXPECT_EQ(Error(json::parse(R"({"meshes": [{"obj": "a.obj", "scale": 2}]})")),
+            "body.meshes[0].scale: unknown field (known fields: obj)");
+  EXPECT_EQ(Error(json::parse(R"({"description": 1, "spheres": []})")),
+            "body.description: expected a string, got 1");
+  EXPECT_EQ(Error(json::parse(R"({})")),
+            "body: a body needs at least one sphere or mesh (\"spheres\", \"meshes\")");
+  EXPECT_EQ(Error(json::parse(R"([1, 2])")),
+            "body: expected an object {\"spheres\": [...], \"meshes\": [...]}, got [1,2]");
+}
+
+TEST(BodyJson, MeshPathsAreRelativeToTheBaseDirectory) {
+  TempDirectory dir;
+  std::filesystem::create_directory(dir.path() + "/meshes");
+  dir.Write("meshes/box.obj", kBoxObj);
+  const json document = json::parse(R"({"meshes": [{"obj": "meshes/box.obj"}],
+    "spheres": [{"name": "head", "center": [3, 0, 0], "radius": 0.5}]})");
+  Body body;
+  std::string error;
+  ASSERT_TRUE(ParseBody(document, "body", dir.path(), &body, &error)) << error;
+  ASSERT_EQ(body.meshes().size(), 1u);
+  // Box [-1, 1]^3 and a sphere at x = 3: at (2, 0, 0) both are 0.5 (box face x = 1 at 1,
+  // sphere surface at 2.5); at the origin the box's depth 1.
+  EXPECT_NEAR(body.SignedDistance(Vec3(2, 0, 0), nullptr), 0.5, 1e-15);
+  EXPECT_NEAR(body.SignedDistance(Vec3(0, 0, 0), nullptr), -1.0, 1e-15);
+
+  // The same through a standalone file, loaded from another working directory.
+  const std::string file = dir.Write("body.json", document.dump());
+  Body loaded;
+  ASSERT_TRUE(LoadBody(file, &loaded, &error)) << error;
+  EXPECT_EQ(loaded.meshes().size(), 1u);
+
+  // A missing OBJ names the field and the resolved path; a broken one the problem.
+  EXPECT_EQ(
+      Error(json::parse(R"({"meshes": [{"obj": "nowhere.obj"}]})"), dir.path()),
+      "body.meshes[0].obj: " + dir.path() + "/nowhere.obj: cannot open: No such file or directory");
+  dir.Write("open.obj", std::string(kBoxObj).substr(0, std::string(kBoxObj).rfind("f ")));
+  EXPECT_EQ(Error(json::parse(R"({"meshes": [{"obj": "open.obj"}]})"), dir.path()),
+            "body.meshes[0].obj: " + dir.path() +
+                "/open.obj: box: edge (2, 4) belongs to 1 triangle (3, 4, 2): the mesh is not "
+                "closed, so its inside is undefined");
+}
+
+TEST(BodyJson, LoadBodyReportsFileAndSyntaxErrors) {
+  TempDirectory dir;
+  Body body;
+  std::string error;
+  const std::string missing = dir.path() + "/missing.json";
+  EXPECT_FALSE(LoadBody(missing, &body, &error));
+  EXPECT_EQ(error, missing + ": cannot open: No such file or directory");
+
+  const std::string broken = dir.Write("broken.json", "{\n  \"spheres\": [,]\n}\n");
+  EXPECT_FALSE(LoadBody(broken, &body, &error));
+  EXPECT_EQ(error.rfind(broken + ": line 2, column 15: invalid JSON: ", 0), 0u) << error;
+
+  const std::string bad = dir.Write("bad.json", R"({"spheres": [{"center": [0, 0, 0]}]})");
+  EXPECT_FALSE(LoadBody(bad, &body, &error));
+  EXPECT_EQ(error, bad +
+                       ": spheres[0].radius: missing required field (expected a positive "
+                       "number (m))");
+}
+
+TEST(BodyJson, ShippedMannequinsLoad) {
+  // Spheres only (the paper's approach): the head is the sphere of radius 0.1 m at the origin,
+  // so the top of the head (0, 0, 0.1) is exactly on the surface.
+  Body spheres;
+  std::string error;
+  ASSERT_TRUE(LoadBody(Examples() + "/bodies/mannequin.json", &spheres, &error)) << error;
+  EXPECT_GE(spheres.spheres().size(), 6u);
+  EXPECT_LE(spheres.spheres().size(), 10u);
+  const Sphere* head = spheres.FindSphere("head");
+  ASSERT_NE(head, nullptr);
+  EXPECT_EQ(head->center, Vec3::Zero());
+  EXPECT_EQ(head->radius, 0.1);
+  EXPECT_EQ(spheres.SignedDistance(Vec3(0, 0, 0.1), nullptr), 0.0);
+  // The neck and shoulders are there: inside at the neck, near the surface at the shoulders.
+  EXPECT_LT(spheres.SignedDistance(Vec3(0, -0.01, -0.15), nullptr), -0.03);
+  EXPECT_NEAR(spheres.SignedDistance(Vec3(0.13, -0.01, -0.22), nullptr), 0.0, 0.01);
+  EXPECT_NEAR(spheres.SignedDistance(Vec3(-0.13, -0.01, -0.22), nullptr), 0.0, 0.01);
+
+  // Meshes: three closed components; the head's top within 0.2 mm of the surface
+  // (body_test.cpp checks the geometry in detail).
+  Body meshes;
+  ASSERT_TRUE(LoadBody(Examples() + "/bodies/mannequin_mesh.json", &meshes, &error)) << error;
+  EXPECT_EQ(meshes.meshes().size(), 3u);
+  EXPECT_NEAR(meshes.SignedDistance(Vec3(0, 0, 0.1), nullptr), 0.0, 2e-4);
+}
+
+}  // namespace
+}  // namespace ringlet

@@ -51,8 +51,8 @@ void BoxMesh(const Vec3& h, std::vector<Vec3>* vertices, std::vector<Triangle>* 
 TriangleMesh MustCreate(std::vector<Vec3> vertices, std::vector<Triangle> triangles) {
   TriangleMesh mesh;
   std::string error;
-  EXPECT_TRUE(TriangleMesh::Create(std::move(vertices), std::move(triangles), "test", &mesh,
-                                   &error))
+  EXPECT_TRUE(
+      TriangleMesh::Create(std::move(vertices), std::move(triangles), "test", &mesh, &error))
       << error;
   return mesh;
 }
@@ -74,24 +74,22 @@ double BoxDistance(const Vec3& p, const Vec3& h) {
 
 // A unit icosahedron subdivided `level` times (edge midpoints pushed to the sphere), scaled
 // to radius r: every vertex on the sphere, triangles outward.
-void Icosphere(int level, double r, std::vector<Vec3>* vertices,
-               std::vector<Triangle>* triangles) {
+void Icosphere(int level, double r, std::vector<Vec3>* vertices, std::vector<Triangle>* triangles) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  *vertices = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-               {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  *vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+               {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   for (Vec3& v : *vertices) v.normalize();
-  *triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  *triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (int l = 0; l < level; ++l) {
     std::map<std::pair<int, int>, int> midpoint;
     auto middle = [&](int i, int j) {
       const auto key = std::make_pair(std::min(i, j), std::max(i, j));
       const auto it = midpoint.find(key);
       if (it != midpoint.end()) return it->second;
-      vertices->push_back(((*vertices)[static_cast<size_t>(i)] +
-                           (*vertices)[static_cast<size_t>(j)]).normalized());
+      vertices->push_back(
+          ((*vertices)[static_cast<size_t>(i)] + (*vertices)[static_cast<size_t>(j)]).normalized());
       return midpoint[key] = static_cast<int>(vertices->size()) - 1;
     };
     std::vector<Triangle> refined;
@@ -183,8 +181,8 @@ TEST(Sphere, DistanceAndGradientExact) {
   ASSERT_TRUE(Body::Create({s}, {}, &body, &error)) << error;
   EXPECT_NEAR(body.SignedDistance(s.center + 0.07 * u, &g), 0.02, 1e-15);
   EXPECT_LT((g - u).norm(), 1e-14);
-  EXPECT_TRUE(body.Bounds().isApprox(
-      Box3(Vec3(0.05, -0.25, 0.25), Vec3(0.15, -0.15, 0.35)), 1e-15));
+  EXPECT_TRUE(
+      body.Bounds().isApprox(Box3(Vec3(0.05, -0.25, 0.25), Vec3(0.15, -0.15, 0.35)), 1e-15));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -304,8 +302,8 @@ TEST(TriangleMesh, SharpPyramidSignNearApexAndEdges) {
   const TriangleMesh pyramid = MustCreate(v, t);
   // Face planes (outward unit normal n, offset n . point) of the three sides and the base.
   std::vector<std::pair<Vec3, double>> planes;
-  for (const Triangle& f : {Triangle{0, 1, 3}, Triangle{1, 2, 3}, Triangle{2, 0, 3},
-                            Triangle{0, 2, 1}}) {
+  for (const Triangle& f :
+       {Triangle{0, 1, 3}, Triangle{1, 2, 3}, Triangle{2, 0, 3}, Triangle{0, 2, 1}}) {
     const Vec3 n = (v[static_cast<size_t>(f[1])] - v[static_cast<size_t>(f[0])])
                        .cross(v[static_cast<size_t>(f[2])] - v[static_cast<size_t>(f[0])])
                        .normalized();
@@ -317,8 +315,9 @@ TEST(TriangleMesh, SharpPyramidSignNearApexAndEdges) {
   int inside = 0, outside = 0;
   for (int i = 0; i < 20000; ++i) {
     // Around the apex, or around a point of a side edge, at distances from 1e-6 to 1e-2.
-    const Vec3 anchor_point =
-        i % 2 == 0 ? v[3] : Vec3(v[static_cast<size_t>(i % 3)] + unit(rng) * (v[3] - v[static_cast<size_t>(i % 3)]));
+    const Vec3 anchor_point = i % 2 == 0 ? v[3]
+                                         : Vec3(v[static_cast<size_t>(i % 3)] +
+                                                unit(rng) * (v[3] - v[static_cast<size_t>(i % 3)]));
     const Vec3 p = anchor_point + std::pow(10.0, -6.0 + 4.0 * unit(rng)) *
                                       Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
     double plane_max = -1e300;
@@ -413,9 +412,10 @@ TEST(TriangleMesh, HierarchyEqualsBruteForce) {
     std::uniform_int_distribution<size_t> vertex(0, mesh.vertices().size() - 1);
     for (int i = 0; i < 1500; ++i) {
       // Two thirds in the box around the mesh, one third within 3 mm of a vertex.
-      const Vec3 p = i % 3 == 0 ? Vec3(mesh.vertices()[vertex(rng)] +
-                                       Vec3(offset(rng), offset(rng), offset(rng)))
-                                : Vec3(ux(rng), uy(rng), uz(rng));
+      const Vec3 p =
+          i % 3 == 0
+              ? Vec3(mesh.vertices()[vertex(rng)] + Vec3(offset(rng), offset(rng), offset(rng)))
+              : Vec3(ux(rng), uy(rng), uz(rng));
       Vec3 g_tree, g_brute;
       const double d_tree = mesh.SignedDistance(p, &g_tree);
       const double d_brute = mesh.SignedDistanceBruteForce(p, &g_brute);
@@ -508,8 +508,7 @@ TEST(Body, UnionOfSphereAndBoxIsTheMinimum) {
   Body body;
   std::string error;
   ASSERT_TRUE(Body::Create({sphere}, {Box(h)}, &body, &error)) << error;
-  EXPECT_TRUE(body.Bounds().isApprox(Box3(Vec3(-0.1, -0.1, -0.1), Vec3(0.18, 0.18, 0.18)),
-                                     1e-15));
+  EXPECT_TRUE(body.Bounds().isApprox(Box3(Vec3(-0.1, -0.1, -0.1), Vec3(0.18, 0.18, 0.18)), 1e-15));
   std::mt19937_64 rng(4);
   std::uniform_real_distribution<double> u(-0.3, 0.3);
   int from_sphere = 0, from_box = 0;
@@ -716,9 +715,10 @@ TEST(LoadObjMeshes, RejectsBadFiles) {
             dir.path() +
                 "/zero.obj: invalid OBJ: Failed parse `f' line(e.g. zero value for face index. "
                 "line 4.)");
-  EXPECT_EQ(load("points.obj", "v 0 0 0\nv 1 0 0\n"), dir.path() + "/points.obj: no faces "
-                                                                   "(a body mesh needs closed "
-                                                                   "triangle surfaces)");
+  EXPECT_EQ(load("points.obj", "v 0 0 0\nv 1 0 0\n"), dir.path() +
+                                                          "/points.obj: no faces "
+                                                          "(a body mesh needs closed "
+                                                          "triangle surfaces)");
   EXPECT_EQ(load("range.obj", "o t\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"),
             dir.path() + "/range.obj: t: face 1 uses vertex 9, out of range (3 vertices)");
   // An open head: the box without its last quad; vertex numbers as in the file (1-based).
@@ -726,8 +726,9 @@ TEST(LoadObjMeshes, RejectsBadFiles) {
   open = open.substr(0, open.rfind("f 2 4 8 6"));
   const std::string head = "o head" + open.substr(open.find('\n', open.find("o box")));
   EXPECT_EQ(load("head.obj", head),
-            dir.path() + "/head.obj: head: edge (2, 4) belongs to 1 triangle (3, 4, 2): the "
-                         "mesh is not closed, so its inside is undefined");
+            dir.path() +
+                "/head.obj: head: edge (2, 4) belongs to 1 triangle (3, 4, 2): the "
+                "mesh is not closed, so its inside is undefined");
   meshes.clear();
   EXPECT_TRUE(meshes.empty());
 }

@@ -65,14 +65,13 @@ class TriangleMesh {
   /// or zero area, relative to the longest edge); closed and consistently oriented (every edge
   /// belongs to exactly two triangles which run along it in opposite directions); every vertex
   /// a manifold fan; positive enclosed volume (outward normals). A non-closed mesh is an error:
-  /// its inside is undefined. Vertices used by no triangle are dropped. name
-  /// appears in error messages ("head: edge (12, 40) belongs to 1 triangle"). On failure *mesh
-  /// is untouched, *error receives one line and the function returns false. Self-intersections
-  /// are not detected. Never throws.
-  /// message_index_base is added to the vertex indices quoted in messages (1 for OBJ files).
-  static bool Create(std::vector<Vec3> vertices, std::vector<Triangle> triangles,
-                     std::string name, TriangleMesh* mesh, std::string* error,
-                     int message_index_base = 0);
+  /// its inside is undefined. Vertices used by no triangle are dropped. Self-intersections are
+  /// not detected. name starts the error messages ("head: edge (12, 40) belongs to 1 triangle
+  /// ..."), where message_index_base is added to the vertex indices (1 for OBJ files). On
+  /// failure *mesh is untouched, *error receives one line and the function returns false.
+  /// Never throws.
+  static bool Create(std::vector<Vec3> vertices, std::vector<Triangle> triangles, std::string name,
+                     TriangleMesh* mesh, std::string* error, int message_index_base = 0);
 
   /// Signed distance from x (m) to the surface (m): negative inside. The sign is that of
   /// (x - c) . n, where c is the closest surface point and n the angle-weighted pseudo-normal of
@@ -98,8 +97,9 @@ class TriangleMesh {
   double volume() const { return volume_; }
 
  private:
-  // A node of the hierarchy: a box and either two children (count == 0; the first child is
-  // the next node, the second at `second`) or a leaf of `count` triangles from `first`.
+  // A node of the hierarchy: a box and either two children (count == 0: the first child is
+  // the next node, the second at first_or_second) or a leaf of `count` packed triangles from
+  // first_or_second.
   struct Node {
     Box3 box;
     int first_or_second = 0;

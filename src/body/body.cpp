@@ -1,4 +1,6 @@
 // The body: a union of spheres and closed meshes, queried by the contact energy (docs/body.md).
+#include "ringlet/body.h"
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -7,8 +9,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include "ringlet/body.h"
 
 namespace ringlet {
 namespace {

@@ -31,8 +31,15 @@ constexpr double kSurfaceTolerance = 1e-12;
 std::string IndexText(int index, int base) { return std::to_string(index + base); }
 
 std::string TriangleText(const TriangleMesh::Triangle& t, int base) {
-  return "(" + IndexText(t[0], base) + ", " + IndexText(t[1], base) + ", " +
-         IndexText(t[2], base) + ")";
+  // Appended piece by piece: "(" + std::string trips GCC 12's -Wrestrict false positive at -O3.
+  std::string text = "(";
+  text += IndexText(t[0], base);
+  text += ", ";
+  text += IndexText(t[1], base);
+  text += ", ";
+  text += IndexText(t[2], base);
+  text += ")";
+  return text;
 }
 
 // The angle between u and v (rad), by atan2 (accurate at 0 and pi, unlike acos of the cosine).
@@ -61,6 +68,14 @@ std::string ShortNumber(double x) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.6g", x);
   return text;
+}
+
+// Squared distance from x to the box (0 inside), branch-free: per axis the excess
+// max(lo - x, x - hi, 0). Eigen's AlignedBox::squaredExteriorDistance branches per axis, which
+// the query's unpredictable boxes make slow.
+double BoxDistanceSquared(const Box3& box, const Vec3& x) {
+  const Vec3 excess = (box.min() - x).cwiseMax(x - box.max()).cwiseMax(0.0);
+  return excess.squaredNorm();
 }
 
 bool Fail(const std::string& name, const std::string& message, std::string* error) {
@@ -161,8 +176,7 @@ bool TriangleMesh::Create(std::vector<Vec3> vertices, std::vector<Triangle> tria
     const double longest =
         std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
     if (!((b - a).cross(c - a).norm() > kDegenerateRatio * longest)) {
-      return Fail(name, "triangle " + TriangleText(t, base) + " is degenerate (zero area)",
-                  error);
+      return Fail(name, "triangle " + TriangleText(t, base) + " is degenerate (zero area)", error);
     }
   }
 
@@ -205,14 +219,13 @@ bool TriangleMesh::Create(std::vector<Vec3> vertices, std::vector<Triangle> tria
                   error);
     }
     if (half_edges[i].a == half_edges[i + 1].a) {
-      return Fail(name,
-                  edge + " runs in the same direction in triangles " +
-                      TriangleText(triangles[static_cast<size_t>(half_edges[i].triangle)], base) +
-                      " and " +
-                      TriangleText(triangles[static_cast<size_t>(half_edges[i + 1].triangle)],
-                                   base) +
-                      ": inconsistent orientation",
-                  error);
+      return Fail(
+          name,
+          edge + " runs in the same direction in triangles " +
+              TriangleText(triangles[static_cast<size_t>(half_edges[i].triangle)], base) + " and " +
+              TriangleText(triangles[static_cast<size_t>(half_edges[i + 1].triangle)], base) +
+              ": inconsistent orientation",
+          error);
     }
     i = j;
   }
@@ -221,7 +234,8 @@ bool TriangleMesh::Create(std::vector<Vec3> vertices, std::vector<Triangle> tria
   // its triangles (two cones touching at a vertex would not).
   std::unordered_map<std::uint64_t, int> triangle_of_directed_edge;
   triangle_of_directed_edge.reserve(half_edges.size());
-  for (const HalfEdge& e : half_edges) triangle_of_directed_edge[DirectedKey(e.a, e.b)] = e.triangle;
+  for (const HalfEdge& e : half_edges)
+    triangle_of_directed_edge[DirectedKey(e.a, e.b)] = e.triangle;
   std::vector<int> incident(vertices.size(), 0);
   std::vector<int> any_triangle(vertices.size(), -1);
   for (size_t i = 0; i < triangles.size(); ++i) {
@@ -304,7 +318,8 @@ void TriangleMesh::Build() {
   edge_normals_.assign(count, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   vertex_normals_.assign(vertices_.size(), Vec3::Zero());
   for (size_t t = 0; t < count; ++t) {
-    face_normals_[t] = (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0)).normalized();
+    face_normals_[t] =
+        (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0)).normalized();
     for (int k = 0; k < 3; ++k) {
       const Vec3& p = corner(t, k);
       const double angle = Angle(corner(t, (k + 1) % 3) - p, corner(t, (k + 2) % 3) - p);
@@ -318,7 +333,8 @@ void TriangleMesh::Build() {
     for (int k = 0; k < 3; ++k) {
       const std::uint64_t key = EdgeKey(triangles_[t][static_cast<size_t>(k)],
                                         triangles_[t][static_cast<size_t>((k + 1) % 3)]);
-      const auto [it, inserted] = first_side.emplace(key, std::pair<int, int>(static_cast<int>(t), k));
+      const auto [it, inserted] =
+          first_side.emplace(key, std::pair<int, int>(static_cast<int>(t), k));
       if (!inserted) {
         // Both sides get the same sum, computed once, so ties between them agree.
         const auto [t0, k0] = it->second;
@@ -432,8 +448,7 @@ double TriangleMesh::SignedDistance(const Vec3& x, Vec3* gradient) const {
     if (gradient) *gradient = Vec3::UnitZ();
     return std::numeric_limits<double>::infinity();
   }
-  Candidate best{std::numeric_limits<double>::infinity(), Vec3::Zero(), 0,
-                 TriangleFeature::kFace};
+  Candidate best{std::numeric_limits<double>::infinity(), Vec3::Zero(), 0, TriangleFeature::kFace};
   // Depth-first traversal, nearer child first, pruning boxes farther than the best so far.
   int stack[kMaxDepth];
   int top = 0;
@@ -445,8 +460,8 @@ double TriangleMesh::SignedDistance(const Vec3& x, Vec3* gradient) const {
     } else {
       int near = node + 1;
       int far = n.first_or_second;
-      double near_d2 = nodes_[static_cast<size_t>(near)].box.squaredExteriorDistance(x);
-      double far_d2 = nodes_[static_cast<size_t>(far)].box.squaredExteriorDistance(x);
+      double near_d2 = BoxDistanceSquared(nodes_[static_cast<size_t>(near)].box, x);
+      double far_d2 = BoxDistanceSquared(nodes_[static_cast<size_t>(far)].box, x);
       if (far_d2 < near_d2) {
         std::swap(near, far);
         std::swap(near_d2, far_d2);
@@ -464,7 +479,7 @@ double TriangleMesh::SignedDistance(const Vec3& x, Vec3* gradient) const {
     bool found = false;
     while (top > 0) {
       const int candidate = stack[--top];
-      if (nodes_[static_cast<size_t>(candidate)].box.squaredExteriorDistance(x) <
+      if (BoxDistanceSquared(nodes_[static_cast<size_t>(candidate)].box, x) <
           best.distance_squared) {
         node = candidate;
         found = true;
@@ -481,8 +496,7 @@ double TriangleMesh::SignedDistanceBruteForce(const Vec3& x, Vec3* gradient) con
     if (gradient) *gradient = Vec3::UnitZ();
     return std::numeric_limits<double>::infinity();
   }
-  Candidate best{std::numeric_limits<double>::infinity(), Vec3::Zero(), 0,
-                 TriangleFeature::kFace};
+  Candidate best{std::numeric_limits<double>::infinity(), Vec3::Zero(), 0, TriangleFeature::kFace};
   Visit(0, static_cast<int>(packed_.size()), x, &best);
   return Finish(x, best, gradient);
 }

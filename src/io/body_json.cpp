@@ -86,8 +86,8 @@ class Reader {
   }
 
   // An optional array field: absent gives an empty view (nullptr), a non-array is an error.
-  bool ReadArray(const json& object, const std::string& path, const char* key,
-                 const char* expected, const json** out) {
+  bool ReadArray(const json& object, const std::string& path, const char* key, const char* expected,
+                 const json** out) {
     *out = nullptr;
     const auto it = object.find(key);
     if (it == object.end()) return true;
@@ -139,7 +139,8 @@ bool ParseSphere(Reader& reader, const json& object, const std::string& path, Sp
 
 bool ParseMesh(Reader& reader, const json& object, const std::string& path,
                const std::string& base_directory, std::vector<TriangleMesh>* meshes) {
-  if (!object.is_object()) return reader.Expected(path, "an object {\"obj\": \"file.obj\"}", object);
+  if (!object.is_object())
+    return reader.Expected(path, "an object {\"obj\": \"file.obj\"}", object);
   if (!reader.CheckFields(object, path, {"obj"})) return false;
   const std::string field = Member(path, "obj");
   const char* expected = "the path of an OBJ file (relative to the body file's directory)";
@@ -200,8 +201,7 @@ bool ParseBodyObject(Reader& reader, const json& document, const std::string& pa
   }
   if (mesh_array) {
     for (size_t i = 0; i < mesh_array->size(); ++i) {
-      if (!ParseMesh(reader, (*mesh_array)[i], Element(meshes_path, i), base_directory,
-                     &meshes)) {
+      if (!ParseMesh(reader, (*mesh_array)[i], Element(meshes_path, i), base_directory, &meshes)) {
         return false;
       }
     }

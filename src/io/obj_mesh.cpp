@@ -31,9 +31,7 @@ bool Triangulate(const std::vector<int>& polygon, const std::vector<Vec3>& verti
     triangles->push_back({polygon[0], polygon[1], polygon[2]});
     return true;
   }
-  auto position = [&](int index) -> const Vec3& {
-    return vertices[static_cast<size_t>(index)];
-  };
+  auto position = [&](int index) -> const Vec3& { return vertices[static_cast<size_t>(index)]; };
   // Newell's normal: the area vector of the polygon, robust for non-convex polygons.
   Vec3 normal = Vec3::Zero();
   for (size_t i = 0; i < polygon.size(); ++i) {
@@ -73,8 +71,7 @@ bool Triangulate(const std::vector<int>& polygon, const std::vector<Vec3>& verti
 
 }  // namespace
 
-bool LoadObjMeshes(const std::string& path, std::vector<TriangleMesh>* meshes,
-                   std::string* error) {
+bool LoadObjMeshes(const std::string& path, std::vector<TriangleMesh>* meshes, std::string* error) {
   auto fail = [&](const std::string& message) {
     if (error) *error = path + ": " + message;
     return false;
@@ -97,14 +94,14 @@ bool LoadObjMeshes(const std::string& path, std::vector<TriangleMesh>* meshes,
     return fail(std::string("cannot parse: ") + e.what());
   }
   if (!parsed || !errors.empty()) {
-    return fail("invalid OBJ: " + (errors.empty() ? std::string("parse failure")
-                                                   : FirstLine(errors)));
+    return fail("invalid OBJ: " +
+                (errors.empty() ? std::string("parse failure") : FirstLine(errors)));
   }
 
   std::vector<Vec3> vertices(attrib.vertices.size() / 3);
   for (size_t i = 0; i < vertices.size(); ++i) {
-    vertices[i] = Vec3(attrib.vertices[3 * i], attrib.vertices[3 * i + 1],
-                       attrib.vertices[3 * i + 2]);
+    vertices[i] =
+        Vec3(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]);
     if (!vertices[i].allFinite()) {
       return fail("vertex " + std::to_string(i + 1) + " has a non-finite coordinate");
     }
@@ -135,8 +132,8 @@ bool LoadObjMeshes(const std::string& path, std::vector<TriangleMesh>* meshes,
       }
       offset += count;
       if (count < 3) {
-        return fail(name + ": face " + std::to_string(face_number) + " has " + std::to_string(count) +
-                    " vertices (at least 3 expected)");
+        return fail(name + ": face " + std::to_string(face_number) + " has " +
+                    std::to_string(count) + " vertices (at least 3 expected)");
       }
       if (!Triangulate(polygon, vertices, &triangles)) {
         return fail(name + ": face " + std::to_string(face_number) + " (" + std::to_string(count) +
