@@ -80,7 +80,7 @@ TEST(BodyJson, MessagesNameTheFieldUnderThePrefix) {
   EXPECT_EQ(Error(spheres), "body.spheres[2].radius: expected a positive number (m), got -0.1");
 
   EXPECT_EQ(Error(json::parse(R"({"spheres": [], "colour": "red"})")),
-            "body.colour: unknown field (known fields: spheres, meshes, description)");
+            "body.colour: unknown field (known fields: spheres, meshes, blend, description)");
   EXPECT_EQ(Error(json::parse(R"({"spheres": [{"center": [0, 0, 0], "radius": 1, "r": 2}]})")),
             "body.spheres[0].r: unknown field (known fields: name, center, radius)");
   EXPECT_EQ(Error(json::parse(R"({"spheres": [{"radius": 1}]})")),

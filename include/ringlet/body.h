@@ -165,8 +165,21 @@ class Body final : public Obstacle {
   /// valid meshes (TriangleMesh::Create). On failure *body is untouched, *error receives one
   /// line ("spheres[2].radius: expected a finite number > 0 (m), got -0.1") and the function
   /// returns false. Never throws.
+  ///
+  /// blend (m, >= 0) rounds the creases where components meet (a smooth union): with blend k > 0
+  /// the components are folded with the quadratic smooth minimum (Quilez, "Smooth minimum",
+  /// iquilezles.org, 2013)
+  ///   smin(a, b) = b + h (a - b) - k h (1 - h),  h = clamp(1/2 + (b - a) / (2 k), 0, 1),
+  /// whose gradient h grad a + (1 - h) grad b is continuous: the contact penalty then has a
+  /// continuous gradient in the valleys between spheres, where the exact minimum has a kink that
+  /// stalls the line search. smin equals the exact minimum where the two distances differ by more
+  /// than k, is below it by at most k/4 on the crease (so contact is felt a little early), and
+  /// stays 1-Lipschitz (its gradient is a convex combination of unit vectors). 0 = exact minimum.
   static bool Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes, Body* body,
-                     std::string* error);
+                     std::string* error, double blend = 0.0);
+
+  /// The crease-rounding radius given to Create (m).
+  double blend() const { return blend_; }
 
   /// Minimum of the signed distances of the components (m). Outside every component this is
   /// the exact distance to the union; inside, where components overlap, it is -max of the
@@ -194,6 +207,7 @@ class Body final : public Obstacle {
   std::vector<Eigen::Vector4d> packed_spheres_;
   std::vector<TriangleMesh> meshes_;
   Box3 bounds_;
+  double blend_ = 0.0;
 };
 
 }  // namespace ringlet

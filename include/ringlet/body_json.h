@@ -9,9 +9,14 @@
 
 namespace ringlet {
 
+/// Crease-rounding radius of bodies read from JSON when "blend" is not given (m): the smooth
+/// union of Body::Create, which keeps the contact penalty's gradient continuous where spheres
+/// meet; strands float at most blend/4 = 1.25 mm above those seams.
+inline constexpr double kDefaultBodyBlend = 0.005;
+
 /// Builds a body from a JSON object
 ///   {"spheres": [{"name": "head", "center": [0, 0, 0], "radius": 0.1}, ...],
-///    "meshes": [{"obj": "mannequin.obj"}, ...], "description": "..."}
+///    "meshes": [{"obj": "mannequin.obj"}, ...], "blend": 0.005, "description": "..."}
 /// where every field is optional but the body needs at least one sphere or mesh: centres in m
 /// (3 finite numbers), radii in m (finite, > 0), names unique among the spheres, OBJ paths
 /// relative to base_directory (absolute paths are kept; LoadObjMeshes reads them, one closed

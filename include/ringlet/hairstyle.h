@@ -36,6 +36,13 @@ struct HullLayers {
 /// is theta_max (rad, > 0): HullLayers' rule above.
 int HullLayerOf(const HullLayers& layers, double polar_angle, double max_polar_angle);
 
+/// The default solver options of a hairstyle's masters: SolveOptions with tolerance 1e-6 (a
+/// moment mismatch a millionth of the largest moment, far below what can be seen; 1e-9 is for
+/// validation) and no stability certificate (the finite-difference Hessian would cost as much as
+/// the solve itself for 20-segment masters; L-BFGS started from the natural shape ends on minima
+/// in practice, and "check_stability": true in the file turns the check on).
+SolveOptions GroomSolveOptions();
+
 /// Everything that defines a hairstyle; immutable once built (ParseHairstyle, or by hand).
 struct Hairstyle {
   /// The body the hair collides with (spheres and meshes). Required.
@@ -68,8 +75,8 @@ struct Hairstyle {
   bool spread_roots = true;
   /// Centreline samples per master segment handed to the wisp generator (>= 1).
   int master_points_per_segment = 4;
-  /// The solver of every master.
-  SolveOptions solver;
+  /// The solver of every master: GroomSolveOptions() unless the file says otherwise.
+  SolveOptions solver = GroomSolveOptions();
   /// Seed of the per-strand variation and of the wisps (roots use roots.seed).
   std::uint64_t seed = 1;
   /// Gravitational acceleration (m/s^2), the same for every strand.

@@ -27,7 +27,11 @@ std::string NumberText(double x) {
 }  // namespace
 
 bool Body::Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes, Body* body,
-                  std::string* error) {
+                  std::string* error, double blend) {
+  if (!(std::isfinite(blend) && blend >= 0.0)) {
+    if (error) *error = "blend: expected a finite number >= 0 (m)";
+    return false;
+  }
   std::set<std::string> names;
   for (size_t i = 0; i < spheres.size(); ++i) {
     const Sphere& s = spheres[i];
@@ -64,11 +68,50 @@ bool Body::Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes,
   for (const TriangleMesh& m : meshes) result.bounds_.extend(m.bounds());
   result.spheres_ = std::move(spheres);
   result.meshes_ = std::move(meshes);
+  result.blend_ = blend;
   *body = std::move(result);
   return true;
 }
 
+namespace {
+
+// Folds a component's signed distance d (gradient g) into the running smooth minimum (best,
+// best_gradient) with the quadratic smooth minimum of width k (Body::Create).
+inline void SmoothFold(double d, const Vec3& g, double k, double* best, Vec3* best_gradient) {
+  if (d - *best >= k) return;
+  if (*best - d >= k) {
+    *best = d;
+    *best_gradient = g;
+    return;
+  }
+  const double h = 0.5 + 0.5 * (d - *best) / k;  // weight of the running minimum
+  *best = d + h * (*best - d) - k * h * (1.0 - h);
+  *best_gradient = h * *best_gradient + (1.0 - h) * g;
+}
+
+}  // namespace
+
 double Body::SignedDistance(const Vec3& x, Vec3* gradient) const {
+  if (blend_ > 0.0) {
+    // Smooth union: every component within blend of the running minimum contributes.
+    double best = std::numeric_limits<double>::infinity();
+    Vec3 best_gradient = Vec3::UnitZ();
+    for (const Eigen::Vector4d& s : packed_spheres_) {
+      const Vec3 r = x - s.head<3>();
+      const double norm = r.norm();
+      SmoothFold(norm - s(3), norm > 0.0 ? Vec3(r / norm) : Vec3::UnitZ(), blend_, &best,
+                 &best_gradient);
+    }
+    for (const TriangleMesh& m : meshes_) {
+      const double box_distance = std::sqrt(m.bounds().squaredExteriorDistance(x));
+      if (box_distance > 0.0 && box_distance >= best + blend_) continue;
+      Vec3 g = Vec3::UnitZ();
+      const double d = m.SignedDistance(x, &g);
+      SmoothFold(d, g, blend_, &best, &best_gradient);
+    }
+    if (gradient) *gradient = best_gradient;
+    return best;
+  }
   // Spheres: |x - c| - r each, one square root, no allocation, no virtual call.
   double best = std::numeric_limits<double>::infinity();
   int best_sphere = -1;

@@ -21,6 +21,13 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+SolveOptions GroomSolveOptions() {
+  SolveOptions options;
+  options.tolerance = 1e-6;
+  options.check_stability = false;
+  return options;
+}
+
 int HullLayerOf(const HullLayers& layers, double polar_angle, double max_polar_angle) {
   if (layers.count <= 1 || !(max_polar_angle > 0.0)) return 0;
   const double depth = 1.0 - std::clamp(polar_angle / max_polar_angle, 0.0, 1.0);

@@ -164,7 +164,18 @@ bool ParseBodyObject(Reader& reader, const json& document, const std::string& pa
                      const std::string& base_directory, Body* out) {
   const char* expected = "an object {\"spheres\": [...], \"meshes\": [...]}";
   if (!document.is_object()) return reader.Expected(path, expected, document);
-  if (!reader.CheckFields(document, path, {"spheres", "meshes", "description"})) return false;
+  if (!reader.CheckFields(document, path, {"spheres", "meshes", "blend", "description"})) {
+    return false;
+  }
+  double blend = kDefaultBodyBlend;
+  const auto blend_it = document.find("blend");
+  if (blend_it != document.end()) {
+    if (!blend_it->is_number() || !std::isfinite(blend_it->get<double>()) ||
+        blend_it->get<double>() < 0.0) {
+      return reader.Expected(Member(path, "blend"), "a finite number >= 0 (m)", *blend_it);
+    }
+    blend = blend_it->get<double>();
+  }
 
   const auto description = document.find("description");
   if (description != document.end() && !description->is_string()) {
@@ -212,7 +223,7 @@ bool ParseBodyObject(Reader& reader, const json& document, const std::string& pa
   }
   std::string why;
   Body body;
-  if (!Body::Create(std::move(spheres), std::move(meshes), &body, &why)) {
+  if (!Body::Create(std::move(spheres), std::move(meshes), &body, &why, blend)) {
     // Safety net: the field checks above should have caught everything.
     return reader.Fail(path, why);
   }
