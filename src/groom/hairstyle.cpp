@@ -96,7 +96,10 @@ bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string
     StrandModel& m = out.models[i];
     m.section = p.section;
     m.material = p.material;
+    // The comb frame has n2 pointing away from the scalp and dt/ds = kappa1 n1 x t = -kappa1 n2
+    // (scalp.h): a negative kappa1^0 starts the curl away from the head instead of into it.
     m.natural_curvature = p.natural_curvature;
+    m.natural_curvature.x() = -std::abs(m.natural_curvature.x());
     m.root_position = root.position;
     m.root_frame = root.frame;
     m.gravity = style.gravity;
