@@ -161,3 +161,25 @@ TEST(StrandGeometry, SplitInvariance) {
 
 }  // namespace
 }  // namespace ringlet
+
+namespace ringlet {
+namespace {
+
+// The chord-only helpers agree with the general closed forms and their derivative.
+TEST(HelixChordVjp, MatchesTheGeneralVjpAndTheChord) {
+  for (unsigned seed : {1u, 2u, 3u, 4u}) {
+    const VecX q = testing::RandomCurvatures(1, seed == 4 ? 1e-4 : 80.0, seed);
+    const Vec3 omega = q.segment<3>(0);
+    const Vec3 d = testing::RandomCurvatures(1, 1.0, seed + 10).segment<3>(0);
+    for (double u : {1e-3, 0.01, 0.04}) {
+      const HelixFunctions f = EvaluateHelixFunctions(omega.norm() * u);
+      EXPECT_LT((HelixChordFromFunctions(omega, u, f) - HelixChord(omega, u)).norm(), 1e-15);
+      const Vec3 general = HelixSegmentVjp(omega, u, f, Mat3::Zero(), d, Vec3::Zero());
+      const Vec3 special = HelixChordVjp(omega, u, f, d);
+      EXPECT_LT((general - special).norm(), 1e-13 * (general.norm() + 1e-30)) << seed << " " << u;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace ringlet

@@ -37,6 +37,7 @@ class LoadWorkspace {
     double u;      // arc length inside the segment (m)
     Vec3 h;        // chord to the sample in the segment's start frame (m)
     Vec3 dE_dx;    // gradient of E_c with respect to the sample's position (N)
+    HelixFunctions functions;  // G_m(u |Omega_i|), kept for the derivative
   };
   std::vector<Mat3> frames_;            // Q_i
   std::vector<Vec3> starts_;            // r_i - r_0

@@ -37,6 +37,17 @@ HelixSegment EvaluateHelixSegment(const Vec3& omega, double length);
 Vec3 HelixSegmentVjp(const Vec3& omega, double length, const HelixFunctions& functions,
                      const Mat3& d_rotation, const Vec3& d_chord, const Vec3& d_moment);
 
+/// The chord p(u) = (u I + u^2 G2 W + u^3 G3 W^2) e3 from precomputed functions = G_m(u |Omega|):
+///   p = u e3 + u^2 G2 (Omega x e3) + u^3 G3 Omega x (Omega x e3)   (m).
+Vec3 HelixChordFromFunctions(const Vec3& omega, double u, const HelixFunctions& functions);
+
+/// dE/dOmega of the chord alone, given dE/dp (HelixSegmentVjp with d_rotation = d_moment = 0,
+/// in a few dozen flops): with X = d e3^T, a1 = u^2 G2, a2 = u^3 G3, da1 = u^4 (2 G4 - G3),
+/// da2 = u^5 (3 G5 - G4),
+///   dE/dOmega = a1 e3 x d - a2 Vee(X W + W X) + (da1 d . (Omega x e3) + da2 d . W^2 e3) Omega.
+Vec3 HelixChordVjp(const Vec3& omega, double u, const HelixFunctions& functions,
+                   const Vec3& d_chord);
+
 /// Chord of a partial segment: the displacement after arc length u in [0, l] along the helix,
 /// in the segment's start frame (m). Same formula as HelixSegment::chord with l -> u.
 Vec3 HelixChord(const Vec3& omega, double u);

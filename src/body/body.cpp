@@ -98,6 +98,9 @@ double Body::SignedDistance(const Vec3& x, Vec3* gradient) const {
     Vec3 best_gradient = Vec3::UnitZ();
     for (const Eigen::Vector4d& s : packed_spheres_) {
       const Vec3 r = x - s.head<3>();
+      // Spheres farther than best + blend do not change the fold: skip them without a root.
+      const double reach = s(3) + best + blend_;
+      if (reach > 0.0 && r.squaredNorm() >= reach * reach) continue;
       const double norm = r.norm();
       SmoothFold(norm - s(3), norm > 0.0 ? Vec3(r / norm) : Vec3::UnitZ(), blend_, &best,
                  &best_gradient);

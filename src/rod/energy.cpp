@@ -66,13 +66,14 @@ struct LoadSweep {
           const double weight = l / m;  // samples at (j + 1) l / m, weight l / m
           for (int j = 0; j < m; ++j) {
             const double u = (j + 1) * weight;
-            const Vec3 h = HelixChord(omega, u);
+            const HelixFunctions functions = EvaluateHelixFunctions(omega.norm() * u);
+            const Vec3 h = HelixChordFromFunctions(omega, u, functions);
             Vec3 normal;
             const double d = obstacle->SignedDistance(model.root_position + r + q * h, &normal);
             const double x = clearance - d;  // penetration of the clearance layer
             if (x <= 0.0) continue;
             ec += 0.5 * weight * k * x * x;
-            ws->contacts_.push_back({i, u, h, -(weight * k * x) * normal});
+            ws->contacts_.push_back({i, u, h, -(weight * k * x) * normal, functions});
           }
         }
         d_start = d_end;
@@ -104,8 +105,7 @@ struct LoadSweep {
       r_bar -= l * f;
       for (; c >= 0 && ws->contacts_[c].segment == i; --c) {
         const LoadWorkspace::ContactSample& p = ws->contacts_[c];
-        g += HelixSegmentVjp(omega, p.u, EvaluateHelixFunctions(omega.norm() * p.u),
-                             Mat3::Zero(), qi.transpose() * p.dE_dx, Vec3::Zero());
+        g += HelixChordVjp(omega, p.u, p.functions, qi.transpose() * p.dE_dx);
         q_bar += p.dE_dx * p.h.transpose();
         r_bar += p.dE_dx;
       }

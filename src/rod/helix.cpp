@@ -116,6 +116,28 @@ Vec3 HelixSegmentVjp(const Vec3& omega, double length, const HelixFunctions& h,
   return Vee(y1) - Vee(y2 * w + w * y2) + s * omega;
 }
 
+Vec3 HelixChordFromFunctions(const Vec3& omega, double u, const HelixFunctions& h) {
+  const Vec3 e3(0.0, 0.0, 1.0);
+  const Vec3 we3 = omega.cross(e3);
+  return u * e3 + (u * u * h.g[2]) * we3 + (u * u * u * h.g[3]) * omega.cross(we3);
+}
+
+Vec3 HelixChordVjp(const Vec3& omega, double u, const HelixFunctions& h, const Vec3& d) {
+  // The m = 2 term of HelixSegmentVjp with X = d e3^T.
+  const double u2 = u * u, u3 = u2 * u, u4 = u3 * u, u5 = u4 * u;
+  const double a1 = u2 * h.g[2];
+  const double a2 = u3 * h.g[3];
+  const double da1 = u4 * (2.0 * h.g[4] - h.g[3]);
+  const double da2 = u5 * (3.0 * h.g[5] - h.g[4]);
+  const Vec3 e3(0.0, 0.0, 1.0);
+  const Vec3 we3 = omega.cross(e3);
+  const Vec3 w2e3 = omega.cross(we3);
+  Mat3 x = Mat3::Zero();
+  x.col(2) = d;
+  const Mat3 w = Hat(omega);
+  return a1 * e3.cross(d) - a2 * Vee(x * w + w * x) + (da1 * d.dot(we3) + da2 * d.dot(w2e3)) * omega;
+}
+
 Vec3 HelixChord(const Vec3& omega, double u) { return EvaluateHelixSegment(omega, u).chord; }
 
 Mat3 HelixRotation(const Vec3& omega, double u) {
