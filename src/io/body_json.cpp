@@ -2,7 +2,7 @@
 //
 // Same message style as the scene files (src/io/scene_json.cpp): one line, the field path, what
 // was expected and what was found: "body.spheres[2].radius: expected a positive number (m), got
-// -0.1". The small path and value helpers repeat scene_json.cpp's, which are file-local there.
+// -0.1". The path, value and field helpers are the shared ones of io/json_reader.h.
 #include "ringlet/body_json.h"
 
 #include <algorithm>
@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/json_reader.h"
 #include "ringlet/atomic_file.h"
 
 namespace ringlet {
@@ -21,84 +22,9 @@ namespace {
 
 using nlohmann::json;
 
-// Values quoted in error messages are cut to this many characters.
-constexpr size_t kMaxShownCharacters = 60;
-// nlohmann's own messages are cut to this many characters.
-constexpr size_t kMaxMessage = 200;
-
-bool IsPlainKey(const std::string& key) {
-  if (key.empty()) return false;
-  return std::all_of(key.begin(), key.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
-  });
-}
-
-// "body" + "spheres" -> "body.spheres"; odd keys quoted so that messages stay on one line.
-std::string Member(const std::string& path, const std::string& key) {
-  if (IsPlainKey(key)) return path.empty() ? key : path + "." + key;
-  return path + "[" + json(key).dump(-1, ' ', true, json::error_handler_t::replace) + "]";
-}
-
-std::string Element(const std::string& path, size_t index) {
-  return path + "[" + std::to_string(index) + "]";
-}
-
-std::string Truncate(std::string text, size_t max_bytes) {
-  if (text.size() <= max_bytes) return text;
-  size_t cut = max_bytes - 3;
-  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
-  return text.substr(0, cut) + "...";
-}
-
-// A value as quoted in a message: compact JSON, ASCII only, cut.
-std::string Show(const json& value) {
-  return Truncate(value.dump(-1, ' ', true, json::error_handler_t::replace), kMaxShownCharacters);
-}
-
-class Reader {
- public:
-  const std::string& error() const { return error_; }
-
-  bool Fail(const std::string& path, const std::string& message) {
-    error_ = path.empty() ? message : path + ": " + message;
-    return false;
-  }
-  bool Expected(const std::string& field, const std::string& expected, const json& got) {
-    return Fail(field, "expected " + expected + ", got " + Show(got));
-  }
-  bool Missing(const std::string& field, const std::string& expected) {
-    return Fail(field, "missing required field (expected " + expected + ")");
-  }
-
-  // Every member of object must be one of known.
-  bool CheckFields(const json& object, const std::string& path,
-                   std::initializer_list<const char*> known) {
-    for (const auto& item : object.items()) {
-      const std::string& key = item.key();
-      if (std::any_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
-        continue;
-      }
-      std::string list;
-      for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + k;
-      return Fail(Member(path, key), "unknown field (known fields: " + list + ")");
-    }
-    return true;
-  }
-
-  // An optional array field: absent gives an empty view (nullptr), a non-array is an error.
-  bool ReadArray(const json& object, const std::string& path, const char* key, const char* expected,
-                 const json** out) {
-    *out = nullptr;
-    const auto it = object.find(key);
-    if (it == object.end()) return true;
-    if (!it->is_array()) return Expected(Member(path, key), expected, *it);
-    *out = &*it;
-    return true;
-  }
-
- private:
-  std::string error_;
-};
+using internal::Element;
+using internal::Member;
+using internal::Reader;
 
 bool ParseSphere(Reader& reader, const json& object, const std::string& path, Sphere* sphere) {
   if (!object.is_object()) {
@@ -231,23 +157,6 @@ bool ParseBodyObject(Reader& reader, const json& document, const std::string& pa
   return true;
 }
 
-// 1-based line and column (in characters) of 1-based byte position byte.
-std::string LineColumnText(const std::string& text, size_t byte) {
-  const size_t index = std::min(byte == 0 ? 0 : byte - 1, text.size());
-  size_t line = 1, line_start = 0;
-  for (size_t i = 0; i < index; ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      line_start = i + 1;
-    }
-  }
-  size_t column = 1;
-  for (size_t i = line_start; i < index; ++i) {
-    if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) ++column;
-  }
-  return "line " + std::to_string(line) + ", column " + std::to_string(column);
-}
-
 }  // namespace
 
 bool ParseBody(const nlohmann::json& document, std::string_view path,
@@ -267,25 +176,12 @@ bool LoadBody(const std::string& path, Body* body, std::string* error) {
   std::string text;
   if (!ReadFile(path, &text, error)) return false;
   json document;
-  try {
-    document = json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/false);
-  } catch (const json::parse_error& e) {
-    // Keep nlohmann's description after its own position, which counts columns differently.
-    std::string what = e.what();
-    const size_t column = what.find("column ");
-    const size_t colon = column == std::string::npos ? what.find("] ") : what.find(": ", column);
-    if (colon != std::string::npos) what = what.substr(colon + 2);
-    if (error) {
-      *error = path + ": " + LineColumnText(text, e.byte) +
-               ": invalid JSON: " + Truncate(what, kMaxMessage);
-    }
-    return false;
-  } catch (const std::exception& e) {
-    if (error) *error = path + ": invalid JSON: " + Truncate(e.what(), kMaxMessage);
+  std::string why;
+  if (!internal::ParseJsonText(text, &document, &why)) {
+    if (error) *error = path + ": " + why;
     return false;
   }
   const std::string directory = std::filesystem::path(path).parent_path().string();
-  std::string why;
   if (!ParseBody(document, "", directory, body, &why)) {
     if (error) *error = path + ": " + why;
     return false;

@@ -163,6 +163,17 @@ class Reader {
     return true;
   }
 
+  // An optional array field: absent gives nullptr, a non-array is an error.
+  bool ReadArray(const json& object, const std::string& path, const char* key,
+                 const char* expected, const json** out) {
+    *out = nullptr;
+    const auto it = object.find(key);
+    if (it == object.end()) return true;
+    if (!it->is_array()) return Expected(Member(path, key), expected, *it);
+    *out = &*it;
+    return true;
+  }
+
   bool Missing(const std::string& field, const std::string& expected) {
     return Fail(field, "missing required field (expected " + expected + ")");
   }
