@@ -225,6 +225,7 @@ int RunGroom(const GroomArgs& args) {
                 s.max_penetration * 1e3, FormatSeconds(s.solve_seconds).c_str(),
                 FormatSeconds(s.wisp_seconds).c_str(), FormatSeconds(write_seconds).c_str(),
                 FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
+    std::fflush(stdout);  // the summary before the warning, also when both go to one pipe
     if (!all_good) {
       PrintWarning(Format("%d of %d masters did not reach a stable equilibrium (see masters.json)",
                           s.unconverged + s.unstable, s.masters));

@@ -162,6 +162,7 @@ int RunSolve(const SolveArgs& args) {
       ++shown;
     }
     if (counts.strands - counts.succeeded > shown) listed += ", ...";
+    std::fflush(stdout);  // the summary before the warning, also when both go to one pipe
     PrintWarning(
         Format("%d of %d strands did not reach a stable equilibrium (%s); results "
                "written to %s",
