@@ -1,0 +1,195 @@
+// Virtual hairdressing (paper, section 3.2): curling, wetting, drying, cutting and growing a
+// groomed hairstyle. Every operation edits the master models and re-solves them warm-started from
+// the previous equilibrium (DESIGN.md, "styling operations = model edits followed by a
+// warm-started re-solve"); the models, formulas and sources are in docs/styling.md.
+#pragma once
+
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "ringlet/cross_section.h"
+#include "ringlet/hairstyle.h"
+#include "ringlet/material.h"
+#include "ringlet/math.h"
+#include "ringlet/solve_strands.h"
+
+namespace ringlet {
+
+/// Robbins, "Chemical and Physical Behavior of Human Hair" (4th ed., 2002), as quoted by the
+/// paper (section 3.2): wetting divides the stiffness by about 10 ...
+inline constexpr double kWetStiffnessFactor = 0.1;
+/// ... and swells the fibre radius by about 13%.
+inline constexpr double kWetSwelling = 1.13;
+/// Density of water (kg/m^3) at 20 C (CRC Handbook of Chemistry and Physics: 998.2).
+inline constexpr double kWaterDensity = 998.2;
+
+/// The wetting model (docs/styling.md). With the dry area A = pi a b and the wet one
+/// A' = s^2 A (s = swelling), the fibre carries the absorbed water's mass
+/// rho_water (A' - A) per unit length, so its density becomes
+///   rho' = (rho A + rho_water (A' - A)) / A'
+/// and its weight per length rho' A' g grows by the water's weight. E' = stiffness_factor E.
+/// Wet hair clumps (water bridges between fibres), so the hull-layer offset shrinks:
+/// thickness' = layer_factor thickness (the paper: "the hair volume is procedurally reduced
+/// through the hull layers"; the factor is our choice, no measured value is known to us).
+struct WetOptions {
+  double stiffness_factor = kWetStiffnessFactor;  ///< E'/E, in (0, 1]
+  double swelling = kWetSwelling;                 ///< a'/a = b'/b, in [1, 2]
+  double water_density = kWaterDensity;           ///< rho_water (kg/m^3), in [0, 2000]
+  double layer_factor = 0.5;                      ///< thickness'/thickness, in [0, 1]
+
+  /// Checks every field; says which field and what was expected.
+  bool IsValid(std::string* why) const;
+};
+
+/// The dry parameters remembered by Wet so that Dry restores them bit for bit.
+struct DryParameters {
+  std::vector<CrossSection> sections;  ///< dry section of each master (m)
+  std::vector<Material> materials;     ///< dry material of each master
+};
+
+/// A styled head: the hairstyle, its masters and their current equilibria. Operations change
+/// masters.models (and wisp radii, clearances) and solutions; the Hairstyle stays as parsed.
+struct StyledHair {
+  Hairstyle style;
+  HairstyleMasters masters;
+  std::vector<StrandSolution> solutions;  ///< one per master, the current equilibrium
+  bool wet = false;                       ///< between Wet and Dry
+  WetOptions wet_options;                 ///< the options of the last Wet (valid while wet)
+  DryParameters dry;                      ///< what Dry restores (valid while wet)
+};
+
+/// The styled state of a groom made from `style` (GroomHairstyle): copies of its masters and
+/// solutions. Returns false (with why) when the groom does not match (one solution per master).
+bool MakeStyledHair(const Hairstyle& style, const Groom& groom, StyledHair* state,
+                    std::string* why);
+
+/// The clearance of master i's contact model (m): r_w max(1, tip_scale) + layer l thickness f,
+/// with f = layer_factor while wet and 1 when dry (the same expression as BuildMasters).
+double MasterClearance(const StyledHair& state, int master);
+
+/// What one operation did.
+struct OperationReport {
+  std::string name;         ///< "curl", "wet", "dry", "cut", "grow"
+  int strands = 0;          ///< masters the operation changed
+  long iterations = 0;      ///< minimizer iterations of all re-solves
+  double seconds = 0.0;     ///< wall time of the operation (s)
+  int unconverged = 0;      ///< masters whose last re-solve did not converge (kept, reported)
+  int rounds = 1;           ///< re-solve rounds (cut with settle, grow steps)
+  std::string message;      ///< one human line
+};
+
+/// Which masters an operation acts on. A master is selected when its index is listed in
+/// `indices`, or, with `indices` empty, when its root's polar angle from the head's up axis and
+/// height above the head centre (HeadCoordinates) lie in the closed ranges below. The default
+/// selects every master.
+struct StrandSelection {
+  std::vector<int> indices;             ///< explicit master indices (none = use the ranges)
+  double min_polar_angle = 0.0;         ///< (rad), in [0, pi]
+  double max_polar_angle = std::numbers::pi;        ///< (rad), in [min_polar_angle, pi]
+  double min_height = -std::numeric_limits<double>::infinity();  ///< (m)
+  double max_height = std::numeric_limits<double>::infinity();   ///< (m), >= min_height
+
+  /// Checks the ranges and that the indices lie in [0, masters); says which field.
+  bool IsValid(int masters, std::string* why) const;
+  /// Whether master i with this root is selected.
+  bool Selects(int index, const Root& root) const;
+};
+
+/// Curl: sets the natural curvature of the selected masters to the helix of radius R (m) and
+/// pitch p (m) (CurvatureFromHelix: kappa = R / (R^2 + c^2), tau = c / (R^2 + c^2),
+/// c = p / (2 pi)), as (-kappa, 0, tau) in the comb frame (BuildMasters' sign: the curl starts
+/// away from the head), updates their wisp radius (WispRadius with the new curliness, unless the
+/// hairstyle fixes it) and clearance, and re-solves them warm-started. R = +infinity straightens.
+/// Rejects R < 0 or NaN, a non-finite p, R = p = 0, and a bad selection.
+bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection& selection,
+          const BatchOptions& batch, OperationReport* report, std::string* why);
+
+/// Wet: every master's E times stiffness_factor, semi-axes times swelling, density from the
+/// absorbed water (WetOptions), clearance with the layer offset times layer_factor; remembers
+/// the dry parameters and re-solves. Rejects invalid options and hair that is already wet.
+bool Wet(StyledHair* state, const WetOptions& options, const BatchOptions& batch,
+         OperationReport* report, std::string* why);
+
+/// Dry: the exact inverse of Wet. Restores the remembered sections and materials bit for bit,
+/// the dry clearance, and re-solves warm-started from the wet equilibrium. Rejects dry hair.
+bool Dry(StyledHair* state, const BatchOptions& batch, OperationReport* report,
+         std::string* why);
+
+/// The region that a cut keeps; everything of a strand beyond the first point where its
+/// centreline leaves the region is removed (the paper: "removing the hair part located under a
+/// given z position", l_new = l_prev - l_cut).
+struct CutRegion {
+  enum class Kind {
+    kAbovePlane,   ///< keep n . r >= offset (n = normal, unit or not); CutBelow uses n = +z
+    kInsideSphere, ///< keep |r - centre| <= radius (bobs, rounded layered cuts)
+    kMaxLength,    ///< keep arc lengths s <= length
+  };
+  Kind kind = Kind::kAbovePlane;
+  Vec3 normal = Vec3::UnitZ();  ///< plane normal, kAbovePlane (non-zero, world)
+  double offset = 0.0;          ///< plane offset n . r (m, with n normalized), kAbovePlane
+  Vec3 centre = Vec3::Zero();   ///< sphere centre (m), kInsideSphere
+  double radius = 0.0;          ///< sphere radius (m, > 0), kInsideSphere
+  double length = 0.0;          ///< maximal length (m, > 0), kMaxLength
+
+  /// Signed distance-like value of a point: > 0 inside the kept region, 0 on its boundary (m):
+  /// n . r - offset (n normalized) or radius - |r - centre|. Not used by kMaxLength.
+  double Inside(const Vec3& point) const;
+  /// Checks the fields of the kind; says which and what was expected.
+  bool IsValid(std::string* why) const;
+};
+
+/// Options of Cut.
+struct CutOptions {
+  /// Iterate until the tips settle on the boundary: after the first cut the lighter hair rises
+  /// and its tips end inside the region (the paper's point); with settle each cut master's length
+  /// is adjusted (bracketed secant, Illinois rule, between the cut length and the previous
+  /// length) and re-solved until |Inside(tip)| <= tolerance. Planes and spheres only.
+  bool settle = false;
+  double tolerance = 5e-4;  ///< settle tolerance on |Inside(tip)| (m), > 0
+  int max_rounds = 40;      ///< settle rounds, >= 1
+  /// Sub-intervals per segment searched for the first exit (each then bisected on the exact
+  /// helix), >= 1: catches a curl that dips out of the region and back within one segment.
+  int samples_per_segment = 8;
+
+  bool IsValid(std::string* why) const;
+};
+
+/// Where a strand first leaves a cut region at its equilibrium: the arc length (m) from the
+/// root, exact to rounding on the helix (bisection on HelixChord within the segment), or the
+/// strand length when it never leaves. For kMaxLength, min(length, L). A root outside the region
+/// returns 0.
+double CutArcLength(const StrandModel& model, const VecX& curvatures, const CutRegion& region,
+                    int samples_per_segment = 8);
+
+/// The model truncated at arc length s in (0, L]: the segments beyond are dropped and the
+/// crossing segment is shortened (to s minus the kept segments' sum). `curvatures`, when not
+/// null, is truncated to the kept segments (the warm start).
+StrandModel TruncateModel(const StrandModel& model, double arc_length, VecX* curvatures = nullptr);
+
+/// Cut: each master whose equilibrium leaves the region is truncated where it first leaves it
+/// (CutArcLength) and all cut masters are re-solved warm-started; with settle, iterated (CutOptions).
+/// Masters rooted outside the region are left uncut and counted in the message.
+bool Cut(StyledHair* state, const CutRegion& region, const CutOptions& options,
+         const BatchOptions& batch, OperationReport* report, std::string* why);
+
+/// Cut below the height z (m): Cut with the plane n = +z, offset z.
+bool CutBelow(StyledHair* state, double z, const CutOptions& options, const BatchOptions& batch,
+              OperationReport* report, std::string* why);
+
+/// Grow: `steps` times, every master grows by `step` (m) at its tip and is re-solved from the
+/// previous step's equilibrium. The length is added to the last segment; when that segment
+/// would exceed the model's longest segment at the start, a new segment of the remainder is
+/// appended, starting from the last segment's curvatures (the helix continued) so the grid stays
+/// as fine as the groom's. Where hair grows does not change the equilibrium (the natural
+/// curvature is uniform, so a strand of length L has the same energy however it came to be);
+/// the tip is where the warm start stays closest. `sequence`, when not null, receives the state
+/// after each step (steps entries). Rejects step <= 0 or non-finite, steps < 1.
+bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
+          std::vector<StyledHair>* sequence, OperationReport* report, std::string* why);
+
+/// Samples the masters of a styled state and grows their wisps (GrowWisps).
+bool StyledStrands(const StyledHair& state, HairCurves* strands, std::string* why);
+
+}  // namespace ringlet

@@ -1,0 +1,569 @@
+// Virtual hairdressing (paper, section 3.2): model edits followed by warm-started re-solves.
+#include "ringlet/styling.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "ringlet/hair_type.h"
+#include "ringlet/helix.h"
+#include "ringlet/strand_geometry.h"
+#include "ringlet/wisp.h"
+
+namespace ringlet {
+namespace {
+
+bool Fail(std::string* why, const std::string& message) {
+  if (why) *why = message;
+  return false;
+}
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string Number(double x) {
+  std::ostringstream s;
+  s.precision(6);
+  s << x;
+  return s.str();
+}
+
+// Re-solves masters `which` from the warm starts `warm` (one per entry of which) and writes the
+// solutions back; adds iterations to the report and returns the number left unconverged.
+int Resolve(StyledHair* state, const std::vector<int>& which, const std::vector<VecX>& warm,
+            const BatchOptions& batch, OperationReport* report) {
+  std::vector<StrandModel> models;
+  models.reserve(which.size());
+  for (int i : which) models.push_back(state->masters.models[i]);
+  std::vector<StrandSolution> solved = SolveStrands(models, state->style.solver, batch, &warm);
+  int unconverged = 0;
+  for (size_t k = 0; k < which.size(); ++k) {
+    report->iterations += solved[k].summary.iterations;
+    if (!solved[k].summary.Converged()) ++unconverged;
+    state->solutions[which[k]] = std::move(solved[k]);
+  }
+  return unconverged;
+}
+
+// The tip of a strand at its equilibrium (m).
+Vec3 TipOf(const StrandModel& model, const VecX& curvatures) {
+  return ComputeGeometry(model, curvatures).points.back();
+}
+
+// The first `segments` curvature triples of `q`, continued by `fallback`'s triples beyond q's
+// size and then by copies of the last available triple: a warm start for a grid that shares
+// its first segments with q's.
+VecX WarmStart(const VecX& q, const VecX& fallback, int segments) {
+  VecX out(3 * segments);
+  for (int i = 0; i < segments; ++i) {
+    if (3 * i + 2 < q.size()) {
+      out.segment<3>(3 * i) = q.segment<3>(3 * i);
+    } else if (3 * i + 2 < fallback.size()) {
+      out.segment<3>(3 * i) = fallback.segment<3>(3 * i);
+    } else {
+      out.segment<3>(3 * i) = out.segment<3>(3 * (i - 1));
+    }
+  }
+  return out;
+}
+
+std::string Summary(const OperationReport& r) {
+  std::string s = r.name + ": " + std::to_string(r.strands) + " masters re-solved, " +
+                  std::to_string(r.iterations) + " iterations";
+  if (r.rounds > 1) s += ", " + std::to_string(r.rounds) + " rounds";
+  if (r.unconverged > 0) s += ", " + std::to_string(r.unconverged) + " unconverged";
+  return s;
+}
+
+}  // namespace
+
+bool WetOptions::IsValid(std::string* why) const {
+  if (!(stiffness_factor > 0.0 && stiffness_factor <= 1.0)) {
+    return Fail(why, "wet.stiffness_factor: expected a number in (0, 1] (E_wet / E_dry)");
+  }
+  if (!(swelling >= 1.0 && swelling <= 2.0)) {
+    return Fail(why, "wet.swelling: expected a number in [1, 2] (wet / dry radius)");
+  }
+  if (!(water_density >= 0.0 && water_density <= 2000.0)) {
+    return Fail(why, "wet.water_density: expected a number in [0, 2000] (kg/m^3)");
+  }
+  if (!(layer_factor >= 0.0 && layer_factor <= 1.0)) {
+    return Fail(why, "wet.layer_factor: expected a number in [0, 1]");
+  }
+  return true;
+}
+
+bool MakeStyledHair(const Hairstyle& style, const Groom& groom, StyledHair* state,
+                    std::string* why) {
+  if (groom.solutions.size() != groom.masters.models.size()) {
+    return Fail(why, "groom: expected one solution per master");
+  }
+  for (size_t i = 0; i < groom.solutions.size(); ++i) {
+    if (groom.solutions[i].curvatures.size() != 3 * groom.masters.models[i].NumSegments()) {
+      return Fail(why, "groom: solution " + std::to_string(i) + " does not match its master");
+    }
+  }
+  StyledHair s;
+  s.style = style;
+  s.masters = groom.masters;
+  s.solutions = groom.solutions;
+  *state = std::move(s);
+  return true;
+}
+
+double MasterClearance(const StyledHair& state, int master) {
+  const Hairstyle& style = state.style;
+  // The same expression as BuildMasters (bit for bit when dry: thickness * 1 is not rounded).
+  const double thickness =
+      state.wet ? style.layers.thickness * state.wet_options.layer_factor : style.layers.thickness;
+  return state.masters.wisp_radii[master] * std::max(1.0, style.wisps.tip_scale) +
+         state.masters.layers[master] * thickness;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Selection
+
+bool StrandSelection::IsValid(int masters, std::string* why) const {
+  for (int i : indices) {
+    if (i < 0 || i >= masters) {
+      return Fail(why, "selection.indices: " + std::to_string(i) + " is not a master index (0 to " +
+                           std::to_string(masters - 1) + ")");
+    }
+  }
+  if (!(min_polar_angle >= 0.0 && max_polar_angle <= std::numbers::pi &&
+        min_polar_angle <= max_polar_angle)) {
+    return Fail(why,
+                "selection.polar_angle: expected 0 <= min <= max <= pi (rad), got [" +
+                    Number(min_polar_angle) + ", " + Number(max_polar_angle) + "]");
+  }
+  if (std::isnan(min_height) || std::isnan(max_height) || min_height > max_height) {
+    return Fail(why, "selection.height: expected min <= max (m), got [" + Number(min_height) +
+                         ", " + Number(max_height) + "]");
+  }
+  return true;
+}
+
+bool StrandSelection::Selects(int index, const Root& root) const {
+  if (!indices.empty()) return std::find(indices.begin(), indices.end(), index) != indices.end();
+  return root.head.polar_angle >= min_polar_angle && root.head.polar_angle <= max_polar_angle &&
+         root.head.height >= min_height && root.head.height <= max_height;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Curl
+
+bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection& selection,
+          const BatchOptions& batch, OperationReport* report, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  // R = +infinity (straight) is allowed; NaN fails the comparison.
+  if (!(radius >= 0.0)) {
+    return Fail(why, "curl.radius: expected a number >= 0 (m; inf = straight), got " +
+                         Number(radius));
+  }
+  if (!std::isfinite(pitch)) {
+    return Fail(why, "curl.pitch: expected a finite number (m; < 0 = left-handed), got " +
+                         Number(pitch));
+  }
+  if (radius == 0.0 && pitch == 0.0) {
+    return Fail(why, "curl.radius, curl.pitch: R = p = 0 is not a helix");
+  }
+  const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
+
+  const HelixCurvature helix = CurvatureFromHelix(radius, pitch);
+  // BuildMasters' convention: kappa1^0 <= 0 starts the curl away from the head.
+  const Vec3 natural(-helix.curvature, 0.0, helix.torsion);
+
+  OperationReport r;
+  r.name = "curl";
+  std::vector<int> which;
+  std::vector<VecX> warm;
+  for (int i = 0; i < n; ++i) {
+    if (!selection.Selects(i, state->masters.roots[i])) continue;
+    StrandModel& m = state->masters.models[i];
+    // Warm start: the old equilibrium shifted by the change of natural curvature (the linear
+    // elastic response about the rest shape moves with it).
+    VecX q = state->solutions[i].curvatures;
+    for (int k = 0; k < m.NumSegments(); ++k) q.segment<3>(3 * k) += natural - m.natural_curvature;
+    m.natural_curvature = natural;
+    // The wisp thickness follows the curliness (BuildMasters), from the dry fibre radius.
+    const WispOptions& wisps = state->style.wisps;
+    if (wisps.wisp_radius <= 0.0) {
+      const CrossSection& dry = state->wet ? state->dry.sections[i] : m.section;
+      state->masters.wisp_radii[i] = WispRadius(wisps.strands_per_wisp, dry.MeanRadius(),
+                                                HelixCurliness(natural), wisps.packing_fraction);
+    }
+    m.contact.clearance = MasterClearance(*state, i);
+    which.push_back(i);
+    warm.push_back(std::move(q));
+  }
+  r.strands = static_cast<int>(which.size());
+  r.unconverged = Resolve(state, which, warm, batch, &r);
+  r.seconds = SecondsSince(start);
+  r.message = Summary(r) + " (R = " + Number(radius) + " m, p = " + Number(pitch) + " m)";
+  if (report) *report = r;
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Wet and dry
+
+bool Wet(StyledHair* state, const WetOptions& options, const BatchOptions& batch,
+         OperationReport* report, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!options.IsValid(why)) return false;
+  if (state->wet) return Fail(why, "wet: the hair is already wet (dry it first)");
+  const int n = static_cast<int>(state->masters.models.size());
+  state->dry.sections.resize(n);
+  state->dry.materials.resize(n);
+  state->wet = true;
+  state->wet_options = options;
+  std::vector<int> which(n);
+  std::vector<VecX> warm(n);
+  for (int i = 0; i < n; ++i) {
+    StrandModel& m = state->masters.models[i];
+    state->dry.sections[i] = m.section;
+    state->dry.materials[i] = m.material;
+    // Robbins 2002 (the paper's [Rob02], section 3.2): E / 10, radius + 13%.
+    const double dry_area = m.section.Area();
+    m.section.a *= options.swelling;
+    m.section.b *= options.swelling;
+    const double wet_area = m.section.Area();
+    m.material.young_modulus *= options.stiffness_factor;
+    // The swelling volume is filled with water: mass per length rho A + rho_w (A' - A).
+    m.material.density =
+        (m.material.density * dry_area + options.water_density * (wet_area - dry_area)) / wet_area;
+    m.contact.clearance = MasterClearance(*state, i);
+    which[i] = i;
+    warm[i] = state->solutions[i].curvatures;
+  }
+  OperationReport r;
+  r.name = "wet";
+  r.strands = n;
+  r.unconverged = Resolve(state, which, warm, batch, &r);
+  r.seconds = SecondsSince(start);
+  r.message = Summary(r) + " (E x " + Number(options.stiffness_factor) + ", radius x " +
+              Number(options.swelling) + ", layers x " + Number(options.layer_factor) + ")";
+  if (report) *report = r;
+  return true;
+}
+
+bool Dry(StyledHair* state, const BatchOptions& batch, OperationReport* report,
+         std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!state->wet) return Fail(why, "dry: the hair is not wet (wet it first)");
+  const int n = static_cast<int>(state->masters.models.size());
+  if (state->dry.sections.size() != static_cast<size_t>(n) ||
+      state->dry.materials.size() != static_cast<size_t>(n)) {
+    return Fail(why, "dry: the remembered dry parameters do not match the masters");
+  }
+  state->wet = false;
+  std::vector<int> which(n);
+  std::vector<VecX> warm(n);
+  for (int i = 0; i < n; ++i) {
+    StrandModel& m = state->masters.models[i];
+    m.section = state->dry.sections[i];
+    m.material = state->dry.materials[i];
+    m.contact.clearance = MasterClearance(*state, i);
+    which[i] = i;
+    warm[i] = state->solutions[i].curvatures;
+  }
+  state->dry = DryParameters{};
+  OperationReport r;
+  r.name = "dry";
+  r.strands = n;
+  r.unconverged = Resolve(state, which, warm, batch, &r);
+  r.seconds = SecondsSince(start);
+  r.message = Summary(r);
+  if (report) *report = r;
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Cut
+
+double CutRegion::Inside(const Vec3& point) const {
+  switch (kind) {
+    case Kind::kAbovePlane:
+      return normal.normalized().dot(point) - offset;
+    case Kind::kInsideSphere:
+      return radius - (point - centre).norm();
+    case Kind::kMaxLength:
+      break;
+  }
+  return 1.0;
+}
+
+bool CutRegion::IsValid(std::string* why) const {
+  switch (kind) {
+    case Kind::kAbovePlane:
+      if (!normal.allFinite() || !(normal.norm() > 0.0)) {
+        return Fail(why, "cut.normal: expected a finite non-zero vector");
+      }
+      if (!std::isfinite(offset)) return Fail(why, "cut.z: expected a finite height (m)");
+      return true;
+    case Kind::kInsideSphere:
+      if (!centre.allFinite()) return Fail(why, "cut.centre: expected 3 finite numbers (m)");
+      if (!(std::isfinite(radius) && radius > 0.0)) {
+        return Fail(why, "cut.radius: expected a finite number > 0 (m), got " + Number(radius));
+      }
+      return true;
+    case Kind::kMaxLength:
+      if (!(std::isfinite(length) && length > 0.0)) {
+        return Fail(why, "cut.length: expected a finite number > 0 (m), got " + Number(length));
+      }
+      return true;
+  }
+  return Fail(why, "cut.kind: unknown");
+}
+
+bool CutOptions::IsValid(std::string* why) const {
+  if (!(std::isfinite(tolerance) && tolerance > 0.0)) {
+    return Fail(why, "cut.tolerance: expected a finite number > 0 (m)");
+  }
+  if (max_rounds < 1) return Fail(why, "cut.max_rounds: expected an integer >= 1");
+  if (samples_per_segment < 1 || samples_per_segment > 1024) {
+    return Fail(why, "cut.samples_per_segment: expected 1 to 1024");
+  }
+  return true;
+}
+
+double CutArcLength(const StrandModel& model, const VecX& curvatures, const CutRegion& region,
+                    int samples_per_segment) {
+  const double total = model.Length();
+  if (region.kind == CutRegion::Kind::kMaxLength) return std::min(region.length, total);
+  const StrandGeometry g = ComputeGeometry(model, curvatures);
+  if (region.Inside(g.points[0]) < 0.0) return 0.0;
+  const int m = std::max(1, samples_per_segment);
+  double s = 0.0;  // arc length at the start of segment i
+  for (int i = 0; i < model.NumSegments(); ++i) {
+    const double l = model.segment_lengths[i];
+    const Vec3 omega = curvatures.segment<3>(3 * i);
+    // The exact point at arc length u into segment i (HelixChord, helix.h).
+    const auto point = [&](double u) { return Vec3(g.points[i] + g.frames[i] * HelixChord(omega, u)); };
+    double u0 = 0.0;
+    for (int j = 1; j <= m; ++j) {
+      const double u1 = (j == m) ? l : l * j / m;
+      if (region.Inside(point(u1)) < 0.0) {
+        // Bisection on [u0, u1]: inside at u0, outside at u1, to rounding.
+        double lo = u0, hi = u1;
+        for (int k = 0; k < 200 && hi - lo > 0.0; ++k) {
+          const double mid = 0.5 * (lo + hi);
+          if (mid <= lo || mid >= hi) break;
+          (region.Inside(point(mid)) < 0.0 ? hi : lo) = mid;
+        }
+        return s + 0.5 * (lo + hi);
+      }
+      u0 = u1;
+    }
+    s += l;
+  }
+  return total;
+}
+
+StrandModel TruncateModel(const StrandModel& model, double arc_length, VecX* curvatures) {
+  StrandModel out = model;
+  out.segment_lengths.clear();
+  double s = 0.0;
+  for (int i = 0; i < model.NumSegments(); ++i) {
+    const double l = model.segment_lengths[i];
+    if (s + l >= arc_length) {
+      const double rest = arc_length - s;
+      if (rest > 0.0) out.segment_lengths.push_back(rest);
+      break;
+    }
+    out.segment_lengths.push_back(l);
+    s += l;
+  }
+  if (out.segment_lengths.empty()) out.segment_lengths.push_back(arc_length);
+  if (curvatures) {
+    const VecX q = *curvatures;
+    *curvatures = WarmStart(q, q, out.NumSegments());
+  }
+  return out;
+}
+
+bool Cut(StyledHair* state, const CutRegion& region, const CutOptions& options,
+         const BatchOptions& batch, OperationReport* report, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!region.IsValid(why) || !options.IsValid(why)) return false;
+  if (options.settle && region.kind == CutRegion::Kind::kMaxLength) {
+    return Fail(why, "cut.settle: only for plane and sphere cuts (a length cut is exact)");
+  }
+  const int n = static_cast<int>(state->masters.models.size());
+  // Where each master first leaves the region, at the current equilibrium.
+  std::vector<int> which;
+  std::vector<VecX> warm;
+  std::vector<StrandModel> before;     // the uncut models, for settle
+  std::vector<VecX> before_q;          // and their equilibria
+  std::vector<double> cut_at;
+  int rooted_outside = 0;
+  for (int i = 0; i < n; ++i) {
+    const StrandModel& m = state->masters.models[i];
+    const double s = CutArcLength(m, state->solutions[i].curvatures, region,
+                                  options.samples_per_segment);
+    if (s <= 0.0) {
+      ++rooted_outside;
+      continue;
+    }
+    if (s >= m.Length()) continue;
+    VecX q = state->solutions[i].curvatures;
+    before.push_back(m);
+    before_q.push_back(q);
+    state->masters.models[i] = TruncateModel(m, s, &q);
+    which.push_back(i);
+    warm.push_back(std::move(q));
+    cut_at.push_back(s);
+  }
+  OperationReport r;
+  r.name = "cut";
+  r.strands = static_cast<int>(which.size());
+  r.unconverged = Resolve(state, which, warm, batch, &r);
+
+  int unsettled = 0;
+  if (options.settle && !which.empty()) {
+    // Per cut master, a bracket [lo, hi] of lengths with the tip inside (g > 0) at lo and
+    // outside (g < 0) at hi; Illinois-modified regula falsi on g(l) = Inside(tip(l)).
+    const int c = static_cast<int>(which.size());
+    std::vector<double> lo(c), hi(c), g_lo(c), g_hi(c);
+    std::vector<int> side(c, 0);  // which end moved last: +1 lo, -1 hi
+    std::vector<bool> active(c, false);
+    for (int k = 0; k < c; ++k) {
+      const int i = which[k];
+      const double g = region.Inside(TipOf(state->masters.models[i], state->solutions[i].curvatures));
+      const double g_prev = region.Inside(TipOf(before[k], before_q[k]));
+      lo[k] = cut_at[k];
+      g_lo[k] = g;
+      hi[k] = before[k].Length();
+      g_hi[k] = g_prev;
+      // Settled already, or no bracket (the tip rose out of... or was inside before the cut).
+      active[k] = std::abs(g) > options.tolerance && g > 0.0 && g_prev < 0.0;
+      if (std::abs(g) > options.tolerance && !active[k]) ++unsettled;
+    }
+    for (int round = 0; round < options.max_rounds; ++round) {
+      std::vector<int> now;
+      std::vector<int> now_k;
+      std::vector<VecX> now_warm;
+      std::vector<double> trial(c);
+      for (int k = 0; k < c; ++k) {
+        if (!active[k]) continue;
+        const double l = (lo[k] * g_hi[k] - hi[k] * g_lo[k]) / (g_hi[k] - g_lo[k]);
+        trial[k] = std::clamp(l, lo[k] + 1e-3 * (hi[k] - lo[k]), hi[k] - 1e-3 * (hi[k] - lo[k]));
+        const int i = which[k];
+        const VecX current = state->solutions[i].curvatures;
+        state->masters.models[i] = TruncateModel(before[k], trial[k]);
+        now.push_back(i);
+        now_k.push_back(k);
+        now_warm.push_back(WarmStart(current, before_q[k], state->masters.models[i].NumSegments()));
+      }
+      if (now.empty()) break;
+      ++r.rounds;
+      OperationReport scratch;
+      Resolve(state, now, now_warm, batch, &scratch);
+      r.iterations += scratch.iterations;
+      for (size_t j = 0; j < now.size(); ++j) {
+        const int k = now_k[j];
+        const int i = now[j];
+        const double g =
+            region.Inside(TipOf(state->masters.models[i], state->solutions[i].curvatures));
+        if (std::abs(g) <= options.tolerance) {
+          active[k] = false;
+          continue;
+        }
+        if (g > 0.0) {
+          lo[k] = trial[k];
+          g_lo[k] = g;
+          if (side[k] == +1) g_hi[k] *= 0.5;  // Illinois: the other end stuck twice
+          side[k] = +1;
+        } else {
+          hi[k] = trial[k];
+          g_hi[k] = g;
+          if (side[k] == -1) g_lo[k] *= 0.5;
+          side[k] = -1;
+        }
+      }
+    }
+    for (int k = 0; k < c; ++k) unsettled += active[k] ? 1 : 0;
+    r.unconverged = 0;
+    for (int i : which) r.unconverged += state->solutions[i].summary.Converged() ? 0 : 1;
+  }
+  r.seconds = SecondsSince(start);
+  r.message = Summary(r);
+  if (rooted_outside > 0) {
+    r.message += ", " + std::to_string(rooted_outside) + " rooted outside the cut region left uncut";
+  }
+  if (options.settle) {
+    r.message += unsettled == 0 ? ", all tips settled within " + Number(options.tolerance) + " m"
+                                : ", " + std::to_string(unsettled) + " tips not settled";
+  }
+  if (report) *report = r;
+  return true;
+}
+
+bool CutBelow(StyledHair* state, double z, const CutOptions& options, const BatchOptions& batch,
+              OperationReport* report, std::string* why) {
+  if (!std::isfinite(z)) return Fail(why, "cut.z: expected a finite height (m), got " + Number(z));
+  CutRegion region;
+  region.kind = CutRegion::Kind::kAbovePlane;
+  region.normal = Vec3::UnitZ();
+  region.offset = z;
+  return Cut(state, region, options, batch, report, why);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Grow
+
+bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
+          std::vector<StyledHair>* sequence, OperationReport* report, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!(std::isfinite(step) && step > 0.0)) {
+    return Fail(why, "grow.step: expected a finite length > 0 (m), got " + Number(step));
+  }
+  if (steps < 1 || steps > 100000) {
+    return Fail(why, "grow.steps: expected an integer from 1 to 100000, got " + std::to_string(steps));
+  }
+  const int n = static_cast<int>(state->masters.models.size());
+  // The longest segment of each master at the start: the grid resolution to keep.
+  std::vector<double> max_segment(n);
+  for (int i = 0; i < n; ++i) {
+    const auto& l = state->masters.models[i].segment_lengths;
+    max_segment[i] = *std::max_element(l.begin(), l.end());
+  }
+  OperationReport r;
+  r.name = "grow";
+  r.strands = n;
+  r.rounds = steps;
+  if (sequence) sequence->clear();
+  std::vector<int> which(n);
+  for (int i = 0; i < n; ++i) which[i] = i;
+  for (int t = 0; t < steps; ++t) {
+    std::vector<VecX> warm(n);
+    for (int i = 0; i < n; ++i) {
+      std::vector<double>& l = state->masters.models[i].segment_lengths;
+      double last = l.back() + step;
+      l.pop_back();
+      while (last > max_segment[i]) {
+        l.push_back(max_segment[i]);
+        last -= max_segment[i];
+      }
+      l.push_back(last);
+      const VecX& q = state->solutions[i].curvatures;
+      warm[i] = WarmStart(q, q, static_cast<int>(l.size()));
+    }
+    r.unconverged = Resolve(state, which, warm, batch, &r);
+    if (sequence) sequence->push_back(*state);
+  }
+  r.seconds = SecondsSince(start);
+  r.message = Summary(r) + " (+" + Number(step * steps) + " m in " + std::to_string(steps) +
+              " steps)";
+  if (report) *report = r;
+  return true;
+}
+
+bool StyledStrands(const StyledHair& state, HairCurves* strands, std::string* why) {
+  return GrowWisps(state.style, state.masters, state.solutions, strands, why);
+}
+
+}  // namespace ringlet

@@ -1,0 +1,420 @@
+// Virtual hairdressing (styling.h): wet, dry, cut, curl and grow on small hairstyles on a sphere
+// head and on single strands.
+#include "ringlet/styling.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numbers>
+
+#include "ringlet/body.h"
+#include "ringlet/hair_type.h"
+#include "ringlet/strand_geometry.h"
+#include "test_util.h"
+
+namespace ringlet {
+namespace {
+
+// A small hairstyle: `count` masters of `length` on the default sphere scalp (radius 0.1 m,
+// centre at the origin), colliding with the head sphere.
+Hairstyle SmallStyle(const std::string& origin, const std::string& curl, int count,
+                     double length) {
+  Hairstyle style;
+  auto body = std::make_shared<Body>();
+  std::string error;
+  EXPECT_TRUE(Body::Create({Sphere{Vec3::Zero(), 0.1, "head"}}, {}, body.get(), &error)) << error;
+  style.body = body;
+  style.scalp = SphereScalp{};
+  style.roots.count = count;
+  style.roots.seed = 3;
+  EXPECT_TRUE(FindHairType(origin, curl, &style.hair_type, &error)) << error;
+  style.length = length;
+  style.segments = 12;
+  style.wisps.strands_per_wisp = 4;
+  style.wisps.points_per_strand = 16;
+  return style;
+}
+
+StyledHair Groomed(const Hairstyle& style) {
+  Groom groom;
+  std::string error;
+  EXPECT_TRUE(GroomHairstyle(style, {}, &groom, &error)) << error;
+  StyledHair state;
+  EXPECT_TRUE(MakeStyledHair(style, groom, &state, &error)) << error;
+  return state;
+}
+
+// One strand hanging from the origin, root tangent -z, without contact: a StyledHair of one
+// master (styling needs roots, layers and wisp radii besides the model).
+StyledHair SingleStrand(const Vec3& natural, double length, int segments, const Vec3& gravity) {
+  StyledHair state;
+  state.style = SmallStyle("caucasian", "curly", 1, length);
+  state.style.solver.tolerance = 1e-9;
+  Mat3 frame;
+  frame << 1, 0, 0,  //
+      0, -1, 0,      //
+      0, 0, -1;      // columns n1 = x, n2 = -y, t = -z: proper (det +1)
+  StrandModel m = testing::MakeStrand(length, segments, 0.0, natural, frame);
+  m.gravity = gravity;
+  state.masters.models = {m};
+  state.masters.roots = {Root{}};
+  state.masters.layers = {0};
+  state.masters.wisp_radii = {0.0};
+  state.solutions = SolveStrands(state.masters.models, state.style.solver);
+  return state;
+}
+
+double MeanTipZ(const StyledHair& s) {
+  double z = 0.0;
+  for (size_t i = 0; i < s.solutions.size(); ++i) {
+    z += ComputeGeometry(s.masters.models[i], s.solutions[i].curvatures).points.back().z();
+  }
+  return z / s.solutions.size();
+}
+
+double MeanPointZ(const StyledHair& s) {
+  double z = 0.0;
+  int n = 0;
+  for (size_t i = 0; i < s.solutions.size(); ++i) {
+    for (const Vec3& p : SampleCentreline(s.masters.models[i], s.solutions[i].curvatures, 4)) {
+      z += p.z();
+      ++n;
+    }
+  }
+  return z / n;
+}
+
+Vec3 Tip(const StyledHair& s, int i) {
+  return ComputeGeometry(s.masters.models[i], s.solutions[i].curvatures).points.back();
+}
+
+TEST(StylingTest, WetHairSagsLower) {
+  StyledHair state = Groomed(SmallStyle("caucasian", "wavy", 20, 0.25));
+  const double tip0 = MeanTipZ(state), mean0 = MeanPointZ(state);
+  OperationReport report;
+  std::string error;
+  ASSERT_TRUE(Wet(&state, {}, {}, &report, &error)) << error;
+  EXPECT_EQ(report.unconverged, 0) << report.message;
+  const double tip1 = MeanTipZ(state), mean1 = MeanPointZ(state);
+  // Wet hair: E I drops to 0.1 * 1.13^4 = 0.163 of dry while the weight per length grows by
+  // (1300 + 998.2 (1.13^2 - 1)) / 1300 = 1.213, so it hangs lower.
+  EXPECT_LT(tip1, tip0 - 1e-3);
+  EXPECT_LT(mean1, mean0 - 1e-3);
+  RecordProperty("mean_tip_z_dry", std::to_string(tip0));
+  RecordProperty("mean_tip_z_wet", std::to_string(tip1));
+  std::printf("wet: mean tip z %.4f -> %.4f m, mean z %.4f -> %.4f m\n", tip0, tip1, mean0,
+              mean1);
+}
+
+TEST(StylingTest, WetMaterialFollowsTheDocumentedModel) {
+  StyledHair state = SingleStrand(Vec3(-60.0, 0.0, 20.0), 0.2, 20, Vec3(0, 0, -9.81));
+  const StrandModel dry = state.masters.models[0];
+  std::string error;
+  ASSERT_TRUE(Wet(&state, {}, {}, nullptr, &error)) << error;
+  const StrandModel& wet = state.masters.models[0];
+  // Robbins (2002): E / 10, radius x 1.13; water fills the swelling at 998.2 kg/m^3.
+  EXPECT_DOUBLE_EQ(wet.material.young_modulus, dry.material.young_modulus / 10.0);
+  EXPECT_DOUBLE_EQ(wet.section.a, 1.13 * dry.section.a);
+  EXPECT_DOUBLE_EQ(wet.section.MeanRadius(), 1.13 * dry.section.MeanRadius());
+  const double mass_dry = dry.material.density * dry.section.Area();
+  const double water = 998.2 * (1.13 * 1.13 - 1.0) * dry.section.Area();
+  EXPECT_NEAR(wet.material.density * wet.section.Area(), mass_dry + water, 1e-12 * mass_dry);
+}
+
+// End-to-end distance over length of a strand: 1 for a straight hanging strand, smaller for curls.
+double Extension(const StyledHair& s) {
+  const StrandGeometry g = ComputeGeometry(s.masters.models[0], s.solutions[0].curvatures);
+  return (g.points.back() - g.points.front()).norm() / s.masters.models[0].Length();
+}
+
+TEST(StylingTest, WetCurlsStretch) {
+  // A ringlet of the "curly" preset's scale: R = 1 cm, p = 2 cm, hanging 30 cm under gravity.
+  const HelixCurvature h = CurvatureFromHelix(0.01, 0.02);
+  StyledHair state = SingleStrand(Vec3(-h.curvature, 0.0, h.torsion), 0.3, 40, Vec3(0, 0, -9.81));
+  ASSERT_TRUE(state.solutions[0].summary.Converged());
+  const double dry = Extension(state);
+  std::string error;
+  ASSERT_TRUE(Wet(&state, {}, {}, nullptr, &error)) << error;
+  ASSERT_TRUE(state.solutions[0].summary.Converged());
+  const double wet = Extension(state);
+  std::printf("curl extension (end-to-end / length): dry %.4f, wet %.4f\n", dry, wet);
+  // Zero gravity would give the helix's own c / sqrt(R^2 + c^2) = 0.303 (c = p / 2 pi); the
+  // load stretches it, and wet hair ~6x softer and 21% heavier much more.
+  EXPECT_GT(dry, 0.303);
+  EXPECT_GT(wet, dry + 0.05);
+}
+
+TEST(StylingTest, DryUndoesWet) {
+  StyledHair state = Groomed(SmallStyle("caucasian", "curly", 20, 0.2));
+  const StyledHair before = state;
+  std::string error;
+  OperationReport wet_report, dry_report;
+  ASSERT_TRUE(Wet(&state, {}, {}, &wet_report, &error)) << error;
+  ASSERT_TRUE(Dry(&state, {}, &dry_report, &error)) << error;
+  EXPECT_FALSE(state.wet);
+  double worst = 0.0;
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    const StrandModel& a = before.masters.models[i];
+    const StrandModel& b = state.masters.models[i];
+    // Bit for bit: restored, not recomputed.
+    EXPECT_EQ(a.section.a, b.section.a);
+    EXPECT_EQ(a.section.b, b.section.b);
+    EXPECT_EQ(a.material.young_modulus, b.material.young_modulus);
+    EXPECT_EQ(a.material.density, b.material.density);
+    EXPECT_EQ(a.material.poisson_ratio, b.material.poisson_ratio);
+    EXPECT_EQ(a.contact.clearance, b.contact.clearance);
+    EXPECT_EQ(a.segment_lengths, b.segment_lengths);
+    EXPECT_EQ(a.natural_curvature, b.natural_curvature);
+    worst = std::max(worst, (Tip(before, i) - Tip(state, i)).norm());
+  }
+  std::printf("dry(wet(x)): largest tip distance to x %.3g m\n", worst);
+  // Same equilibrium to the groom's solver tolerance (residual 1e-6): tips within 0.1 mm.
+  EXPECT_LT(worst, 1e-4);
+}
+
+TEST(StylingTest, CutShortensByTheCutLengthAndTipsRise) {
+  StyledHair state = Groomed(SmallStyle("asian", "straight", 20, 0.3));
+  const StyledHair before = state;
+  const double z = -0.12;
+  std::string error;
+  OperationReport report;
+  ASSERT_TRUE(CutBelow(&state, z, {}, {}, &report, &error)) << error;
+  std::printf("%s\n", report.message.c_str());
+  ASSERT_GT(report.strands, 3);  // not vacuous: several strands hung below z
+  CutRegion plane;
+  plane.offset = z;
+  int cut = 0;
+  double lowest_tip = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    const StrandModel& old_model = before.masters.models[i];
+    const VecX& old_q = before.solutions[i].curvatures;
+    const double l_prev = old_model.Length();
+    const double l_new = state.masters.models[i].Length();
+    if (l_new == l_prev) continue;
+    ++cut;
+    // l_new = l_prev - l_cut with l_cut the arc length below the crossing.
+    const double s = CutArcLength(old_model, old_q, plane);
+    const double l_cut = l_prev - s;
+    EXPECT_NEAR(l_new, l_prev - l_cut, 1e-12);
+    // The crossing lies on the plane (bisection on the exact helix)...
+    const FramedCentreline dense = SampleFramedCentreline(old_model, old_q, 400);
+    // ... and agrees with an independent search: the first sample below z on a dense polyline,
+    // linearly interpolated (error ~ spacing^2 curvature, below 1e-5 m here).
+    double s_dense = -1.0;
+    for (int j = 1; j < dense.NumPoints(); ++j) {
+      if (dense.points[j].z() < z) {
+        const double z0 = dense.points[j - 1].z(), z1 = dense.points[j].z();
+        const double t = (z0 - z) / (z0 - z1);
+        s_dense = dense.arc_lengths[j - 1] + t * (dense.arc_lengths[j] - dense.arc_lengths[j - 1]);
+        break;
+      }
+    }
+    EXPECT_NEAR(s, s_dense, 1e-5);
+    const Vec3 old_at_cut = ComputeGeometry(TruncateModel(old_model, s), VecX(old_q.head(
+        3 * TruncateModel(old_model, s).NumSegments()))).points.back();
+    EXPECT_NEAR(old_at_cut.z(), z, 1e-12);
+    // The lighter strand rises: its tip ends above the cut plane (the paper's point).
+    const double tip_z = Tip(state, static_cast<int>(i)).z();
+    EXPECT_GT(tip_z, z);
+    lowest_tip = std::min(lowest_tip, tip_z);
+  }
+  EXPECT_EQ(cut, report.strands);
+  std::printf("cut at z = %.3f: %d strands, lowest tip after re-solve %.4f m\n", z, cut,
+              lowest_tip);
+}
+
+TEST(StylingTest, SettledCutPutsTipsOnThePlane) {
+  StyledHair state = Groomed(SmallStyle("asian", "straight", 20, 0.3));
+  const StyledHair before = state;
+  const double z = -0.12;
+  CutOptions options;
+  options.settle = true;
+  options.tolerance = 5e-4;
+  std::string error;
+  OperationReport report;
+  ASSERT_TRUE(CutBelow(&state, z, options, {}, &report, &error)) << error;
+  std::printf("%s\n", report.message.c_str());
+  EXPECT_GT(report.rounds, 1);
+  int cut = 0;
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    if (state.masters.models[i].Length() == before.masters.models[i].Length()) continue;
+    ++cut;
+    EXPECT_NEAR(Tip(state, static_cast<int>(i)).z(), z, options.tolerance) << "master " << i;
+  }
+  EXPECT_EQ(cut, report.strands);
+  EXPECT_GT(cut, 3);
+}
+
+TEST(StylingTest, SphereAndLengthCuts) {
+  StyledHair state = Groomed(SmallStyle("asian", "straight", 12, 0.3));
+  StyledHair by_length = state;
+  std::string error;
+  CutRegion length;
+  length.kind = CutRegion::Kind::kMaxLength;
+  length.length = 0.2;
+  ASSERT_TRUE(Cut(&by_length, length, {}, {}, nullptr, &error)) << error;
+  for (const StrandModel& m : by_length.masters.models) EXPECT_LE(m.Length(), 0.2 + 1e-15);
+
+  CutRegion bob;
+  bob.kind = CutRegion::Kind::kInsideSphere;
+  bob.centre = Vec3::Zero();
+  bob.radius = 0.18;
+  OperationReport report;
+  ASSERT_TRUE(Cut(&state, bob, {}, {}, &report, &error)) << error;
+  EXPECT_GT(report.strands, 0);
+  // After the cut every master lies inside the sphere (it only rose).
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    EXPECT_LT(Tip(state, static_cast<int>(i)).norm(), 0.18 + 1e-9);
+  }
+}
+
+// Radius and pitch of a helix measured from four equally spaced centreline points: second
+// differences point to the axis, so their cross product gives the axis a; the chord of the
+// projection on the plane normal to a is 2 R sin(dt/2) and the second difference 4 R sin^2(dt/2).
+HelixShape MeasureHelix(const std::vector<Vec3>& p, double h) {
+  const Vec3 d1 = p[2] - 2.0 * p[1] + p[0];
+  const Vec3 d2 = p[3] - 2.0 * p[2] + p[1];
+  const Vec3 a = d1.cross(d2).normalized();
+  const Vec3 chord = p[1] - p[0];
+  const double chord_h = (chord - chord.dot(a) * a).norm();
+  const double d = d1.norm();
+  const double radius = chord_h * chord_h / d;
+  const double dt = 2.0 * std::asin(d / (2.0 * chord_h));
+  const double lambda = h / dt;  // sqrt(R^2 + c^2)
+  const double c = lambda * std::abs((p[3] - p[0]).dot(a)) / (3.0 * h);
+  return {radius, 2.0 * std::numbers::pi * c};
+}
+
+TEST(StylingTest, CurlRoundTripsRadiusAndPitch) {
+  StyledHair state = SingleStrand(Vec3::Zero(), 0.1, 10, Vec3::Zero());
+  std::string error;
+  OperationReport report;
+  const double radius = 0.012, pitch = 0.03;
+  ASSERT_TRUE(Curl(&state, radius, pitch, {}, {}, &report, &error)) << error;
+  // kappa = R / (R^2 + c^2), tau = c / (R^2 + c^2), c = p / 2 pi (do Carmo 1-5).
+  const double c = pitch / (2.0 * std::numbers::pi);
+  EXPECT_NEAR(state.masters.models[0].natural_curvature.x(), -radius / (radius * radius + c * c),
+              1e-9);
+  EXPECT_NEAR(state.masters.models[0].natural_curvature.z(), c / (radius * radius + c * c), 1e-9);
+  ASSERT_TRUE(state.solutions[0].summary.Converged());
+  // Four points 1 cm apart (10 samples per 1-cm segment, every 10th).
+  const std::vector<Vec3> all = SampleCentreline(state.masters.models[0],
+                                                 state.solutions[0].curvatures, 10);
+  const HelixShape measured = MeasureHelix({all[20], all[30], all[40], all[50]}, 0.01);
+  EXPECT_NEAR(measured.radius, radius, 1e-9);
+  EXPECT_NEAR(measured.pitch, pitch, 1e-9);
+  std::printf("curl R = %.4f, p = %.4f -> measured %.9f, %.9f\n", radius, pitch, measured.radius,
+              measured.pitch);
+}
+
+TEST(StylingTest, CurlActsOnTheSelectionOnly) {
+  StyledHair state = Groomed(SmallStyle("caucasian", "wavy", 20, 0.2));
+  const StyledHair before = state;
+  StrandSelection crown;
+  crown.max_polar_angle = 0.8;
+  std::string error;
+  OperationReport report;
+  ASSERT_TRUE(Curl(&state, 0.01, 0.02, crown, {}, &report, &error)) << error;
+  int selected = 0;
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    const bool in = state.masters.roots[i].head.polar_angle <= 0.8;
+    selected += in;
+    if (in) {
+      EXPECT_NE(state.masters.models[i].natural_curvature, before.masters.models[i].natural_curvature);
+    } else {
+      EXPECT_EQ(state.masters.models[i].natural_curvature, before.masters.models[i].natural_curvature);
+      EXPECT_EQ(state.solutions[i].curvatures, before.solutions[i].curvatures);
+    }
+  }
+  EXPECT_EQ(report.strands, selected);
+  EXPECT_GT(selected, 0);
+  EXPECT_LT(selected, 20);
+}
+
+TEST(StylingTest, GrowAddsStepTimesSteps) {
+  StyledHair state = Groomed(SmallStyle("caucasian", "wavy", 10, 0.1));
+  const StyledHair before = state;
+  std::vector<StyledHair> sequence;
+  OperationReport report;
+  std::string error;
+  const double step = 0.02;
+  const int steps = 5;
+  ASSERT_TRUE(Grow(&state, step, steps, {}, &sequence, &report, &error)) << error;
+  ASSERT_EQ(sequence.size(), 5u);
+  std::printf("%s\n", report.message.c_str());
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    const double l0 = before.masters.models[i].Length();
+    for (int t = 0; t < steps; ++t) {
+      EXPECT_NEAR(sequence[t].masters.models[i].Length(), l0 + (t + 1) * step, 1e-12);
+    }
+    EXPECT_NEAR(state.masters.models[i].Length() - l0, step * steps, 1e-12);
+    // The grid stays as fine as the groom's.
+    const auto& l0s = before.masters.models[i].segment_lengths;
+    const double max0 = *std::max_element(l0s.begin(), l0s.end());
+    for (double l : state.masters.models[i].segment_lengths) EXPECT_LE(l, max0);
+    EXPECT_GT(state.masters.models[i].NumSegments(), before.masters.models[i].NumSegments());
+  }
+  EXPECT_EQ(report.unconverged, 0);
+}
+
+TEST(StylingTest, BadParametersAreRejectedByName) {
+  StyledHair state = Groomed(SmallStyle("caucasian", "wavy", 6, 0.15));
+  const StyledHair before = state;
+  std::string error;
+  const auto rejects = [&](bool ok, const std::string& field) {
+    EXPECT_FALSE(ok);
+    EXPECT_NE(error.find(field), std::string::npos) << error;
+    error.clear();
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  rejects(Curl(&state, -0.01, 0.02, {}, {}, nullptr, &error), "curl.radius");
+  rejects(Curl(&state, nan, 0.02, {}, {}, nullptr, &error), "curl.radius");
+  rejects(Curl(&state, 0.01, std::numeric_limits<double>::infinity(), {}, {}, nullptr, &error),
+          "curl.pitch");
+  rejects(Curl(&state, 0.0, 0.0, {}, {}, nullptr, &error), "curl.radius, curl.pitch");
+  StrandSelection bad;
+  bad.indices = {0, 99};
+  rejects(Curl(&state, 0.01, 0.02, bad, {}, nullptr, &error), "selection.indices");
+  StrandSelection reversed;
+  reversed.min_polar_angle = 1.0;
+  reversed.max_polar_angle = 0.5;
+  rejects(Curl(&state, 0.01, 0.02, reversed, {}, nullptr, &error), "selection.polar_angle");
+  WetOptions wet;
+  wet.stiffness_factor = 0.0;
+  rejects(Wet(&state, wet, {}, nullptr, &error), "wet.stiffness_factor");
+  wet = {};
+  wet.swelling = 0.9;
+  rejects(Wet(&state, wet, {}, nullptr, &error), "wet.swelling");
+  rejects(Dry(&state, {}, nullptr, &error), "not wet");
+  rejects(CutBelow(&state, nan, {}, {}, nullptr, &error), "cut.z");
+  CutRegion sphere;
+  sphere.kind = CutRegion::Kind::kInsideSphere;
+  rejects(Cut(&state, sphere, {}, {}, nullptr, &error), "cut.radius");
+  CutRegion length;
+  length.kind = CutRegion::Kind::kMaxLength;
+  length.length = -1.0;
+  rejects(Cut(&state, length, {}, {}, nullptr, &error), "cut.length");
+  length.length = 0.1;
+  CutOptions settle;
+  settle.settle = true;
+  rejects(Cut(&state, length, settle, {}, nullptr, &error), "cut.settle");
+  CutOptions tolerance;
+  tolerance.tolerance = 0.0;
+  rejects(CutBelow(&state, -0.1, tolerance, {}, nullptr, &error), "cut.tolerance");
+  rejects(Grow(&state, 0.0, 3, {}, nullptr, nullptr, &error), "grow.step");
+  rejects(Grow(&state, 0.01, 0, {}, nullptr, nullptr, &error), "grow.steps");
+  // Nothing changed.
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    EXPECT_EQ(state.masters.models[i].segment_lengths, before.masters.models[i].segment_lengths);
+    EXPECT_EQ(state.masters.models[i].natural_curvature, before.masters.models[i].natural_curvature);
+    EXPECT_EQ(state.solutions[i].curvatures, before.solutions[i].curvatures);
+  }
+  // Wet twice.
+  ASSERT_TRUE(Wet(&state, {}, {}, nullptr, &error)) << error;
+  rejects(Wet(&state, {}, {}, nullptr, &error), "already wet");
+}
+
+}  // namespace
+}  // namespace ringlet
