@@ -31,6 +31,9 @@ Command AddSolveCommand(CLI::App* parent);
 /// `ringlet groom HAIRSTYLE.json -o OUTDIR/`: a full head of hair with standard file exports.
 Command AddGroomCommand(CLI::App* parent);
 
+/// `ringlet style HAIRSTYLE.json --wet --cut-z Z ... -o OUTDIR/`: styling operations on a groom.
+Command AddStyleCommand(CLI::App* parent);
+
 /// Prints "ringlet: <kind>: <message>" as exactly one line on stderr: control characters in the
 /// message (a newline in a file name, say) are shown as '?'.
 inline void PrintDiagnostic(const char* kind, const std::string& message) {

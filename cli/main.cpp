@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   const std::vector<Command> commands = {
       ringlet::cli::AddSolveCommand(&app),
       ringlet::cli::AddGroomCommand(&app),
+      ringlet::cli::AddStyleCommand(&app),
   };
 
   // CLI11 would report an unknown command word as "A subcommand is required": name it instead.
