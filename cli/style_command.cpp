@@ -231,26 +231,36 @@ int RunStyle(const StyleArgs& args) {
 
   // Encode everything first, then write each file atomically.
   std::vector<std::pair<std::string, std::string>> files;
-  const auto encode = [&](const std::string& name, bool ok, std::string contents) {
-    if (!ok) {
+  // encode(name, f): f(&contents) encodes and returns false (with error) on failure.
+  const auto encode = [&](const std::string& name, const auto& f) {
+    std::string contents;
+    if (!f(&contents)) {
       PrintError(name + ": " + error);
       return false;
     }
     files.emplace_back(name, std::move(contents));
     return true;
   };
-  std::string text;
-  bool ok = encode("strands.hair", EncodeHairFile(strands, hair_options, &text, &error), text);
-  ok = ok && encode("strands.usda", EncodeUsda(strands, UsdExportOptions{}, &text, &error), text);
-  ok = ok && encode("strands.obj", EncodeObj(strands, &text, &error), text);
-  ok = ok && encode("masters.json", true, MastersJson(state, reports, SecondsSince(start)));
-  for (size_t t = 0; ok && t < grow_frames.size(); ++t) {
-    ok = encode(Format("step_%03d.hair", static_cast<int>(t + 1)),
-                EncodeHairFile(grow_frames[t], hair_options, &text, &error), text);
+  bool ok = encode("strands.hair", [&](std::string* t) {
+    return EncodeHairFile(strands, hair_options, t, &error);
+  });
+  ok = ok && encode("strands.usda", [&](std::string* t) {
+    return EncodeUsda(strands, UsdExportOptions{}, t, &error);
+  });
+  ok = ok && encode("strands.obj", [&](std::string* t) { return EncodeObj(strands, t, &error); });
+  ok = ok && encode("masters.json", [&](std::string* t) {
+    *t = MastersJson(state, reports, SecondsSince(start));
+    return true;
+  });
+  for (size_t k = 0; ok && k < grow_frames.size(); ++k) {
+    ok = encode(Format("step_%03d.hair", static_cast<int>(k + 1)), [&](std::string* t) {
+      return EncodeHairFile(grow_frames[k], hair_options, t, &error);
+    });
   }
   if (ok && !grow_frames.empty()) {
-    ok = encode("grow.usda", EncodeUsdaSequence(grow_frames, UsdExportOptions{}, &text, &error),
-                text);
+    ok = encode("grow.usda", [&](std::string* t) {
+      return EncodeUsdaSequence(grow_frames, UsdExportOptions{}, t, &error);
+    });
   }
   if (!ok) return kExitBadInput;
   std::error_code ec;

@@ -328,6 +328,48 @@ expect_one_error_line "scene is a directory" "directory"
 expect_empty_dir "scene is a directory" "$work/bad_out"
 
 # --------------------------------------------------------------------------------------------
+# `ringlet style`: operations in order, groom outputs plus grow steps; bad operations rejected.
+mkdir -p "$work/style_bad"
+cat >"$work/style.json" <<EOF
+{
+  "body": "$EXAMPLES/bodies/mannequin.json",
+  "scalp": {"head": {"centre": [0, 0, 0], "up": [0, 0, 1], "front": [0, 1, 0]}, "radius": 0.1},
+  "masters": {"count": 12, "seed": 1, "segments": 10, "grading": "auto"},
+  "hair": {"origin": "caucasian", "curl": "wavy", "length": 0.25, "seed": 1},
+  "wisps": {"strands_per_wisp": 3, "points_per_strand": 12}
+}
+EOF
+run style "$work/style.json" --wet --cut-z -0.15 --settle --dry --grow 0.01 --steps 2 \
+  -o "$work/style_out"
+expect_rc "style wet/cut/dry/grow" 0
+for f in strands.hair strands.usda strands.obj masters.json step_001.hair step_002.hair grow.usda; do
+  if [ -s "$work/style_out/$f" ]; then ok; else fail "style: $f not written"; fi
+done
+if "$PYTHON" -c '
+import json, sys
+ops = [o["name"] for o in json.load(open(sys.argv[1]))["style"]["operations"]]
+sys.exit(0 if ops == ["wet", "cut", "dry", "grow"] else 1)
+' "$work/style_out/masters.json"; then ok; else
+  fail "style: operations not reported in command-line order"
+fi
+run style "$work/style.json" --curl 0.01 -o "$work/style_bad/x"
+expect_rc "style bad --curl" 1
+expect_one_error_line "style bad --curl" "--curl"
+run style "$work/style.json" --curl=-0.01,0.02 -o "$work/style_bad/x"
+expect_rc "style negative curl radius" 1
+expect_one_error_line "style negative curl radius" "curl.radius"
+run style "$work/style.json" --dry -o "$work/style_bad/x"
+expect_rc "style dry hair" 1
+expect_one_error_line "style dry hair" "not wet"
+run style "$work/style.json" --grow 0 -o "$work/style_bad/x"
+expect_rc "style grow 0" 1
+expect_one_error_line "style grow 0" "grow.step"
+run style "$work/style.json" -o "$work/style_bad/x"
+expect_rc "style without operation" 1
+expect_one_error_line "style without operation" "operation"
+expect_empty_dir "style bad input" "$work/style_bad"
+
+# --------------------------------------------------------------------------------------------
 if [ "$failures" -ne 0 ]; then
   echo "cli_test: $failures of $((checks + failures)) checks FAILED" >&2
   exit 1
