@@ -438,7 +438,8 @@ bool Cut(StyledHair* state, const CutRegion& region, const CutOptions& options,
       g_lo[k] = g;
       hi[k] = before[k].Length();
       g_hi[k] = g_prev;
-      // Settled already, or no bracket (the tip rose out of... or was inside before the cut).
+      // Settled already, or no bracket (the tip fell below after the cut, or was already
+      // inside before it: a curl that left the region and came back).
       active[k] = std::abs(g) > options.tolerance && g > 0.0 && g_prev < 0.0;
       if (std::abs(g) > options.tolerance && !active[k]) ++unsettled;
     }
