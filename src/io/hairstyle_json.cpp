@@ -248,8 +248,11 @@ bool ParseHair(Reader& reader, const json& document, Hairstyle* style) {
   }
   std::string why;
   if (!FindHairType(origin, curl, &style->hair_type, &why)) {
-    // why lists the valid names; say which field was wrong.
+    // why lists the valid names; say which field was wrong. FindHairType names its own field
+    // ("hair_type.origin: ..."), which is not a key of the file: keep only what follows it.
     const bool origin_ok = !DefaultCurl(origin).empty();
+    const std::string own_prefix = origin_ok ? "hair_type.curl: " : "hair_type.origin: ";
+    if (why.rfind(own_prefix, 0) == 0) why.erase(0, own_prefix.size());
     return reader.Fail(origin_ok ? "hair.curl" : "hair.origin", why);
   }
   return true;
