@@ -16,6 +16,7 @@
 #include "ringlet/body_json.h"
 #include "ringlet/contact.h"
 #include "ringlet/strand_geometry.h"
+#include "ringlet/strand_geometry.h"
 
 namespace ringlet {
 namespace {
@@ -190,10 +191,15 @@ TEST(BuildMasters, ClearanceIsWispRadiusPlusLayerOffset) {
   for (size_t i = 0; i < m.models.size(); ++i) {
     SCOPED_TRACE("master " + std::to_string(i));
     const StrandParameters p = SampleStrand(style.hair_type, style.seed, i);
-    // r_w from the strand count, fibre radius and the curliness of the natural helix.
+    // r_w from the strand count, fibre radius and the curliness of the natural shape: the
+    // end-to-end distance d of the gravity-free master, c = sqrt((L/d)^2 - 1) (wisp.h).
+    const StrandGeometry natural = ComputeGeometry(m.models[i], m.models[i].NaturalCurvatures());
+    const double length = m.models[i].Length();
+    const double d = (natural.points.back() - natural.points.front()).norm();
+    const double c = std::min(kMaxCurliness, std::sqrt(std::max(0.0, length * length / (d * d) - 1.0)));
     const double r_w =
-        WispRadius(style.wisps.strands_per_wisp, p.section.MeanRadius(),
-                   HelixCurliness(p.natural_curvature), style.wisps.packing_fraction);
+        WispRadius(style.wisps.strands_per_wisp, p.section.MeanRadius(), c,
+                   style.wisps.packing_fraction);
     EXPECT_DOUBLE_EQ(m.wisp_radii[i], r_w);
     // 4 fibres of ~35 um: r_w is a fraction of a millimetre.
     EXPECT_GT(r_w, 50e-6);

@@ -99,7 +99,7 @@ struct HairstyleMasters {
 /// Samples the roots and builds the master models: strand i takes SampleStrand(hair_type, seed,
 /// i) (section, natural curvature, material, length factor), segments graded as asked, root
 /// frame from the comb, and a contact model with the body whose clearance is the wisp radius
-/// r_w = WispRadius(strands_per_wisp, fibre radius, HelixCurliness(natural curvature)) (the
+/// r_w = WispRadius(strands_per_wisp, fibre radius, Curliness of the natural shape) (the
 /// paper's wisp thickness, so that the children stay outside the body) plus the layer offset.
 /// Returns false (with why) for an invalid hairstyle or a scalp on which no root fits.
 bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string* why);

@@ -109,12 +109,16 @@ bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string
         style.grading > 0.0 ? style.grading : RecommendedGradingRatio(m.GravityParameter());
     m.segment_lengths = GradedSegments(length, style.segments, ratio);
 
-    // The wisp thickness (section 3.1) from its strand count and the natural curliness.
-    const double r_w = style.wisps.wisp_radius > 0.0
-                           ? style.wisps.wisp_radius
-                           : WispRadius(style.wisps.strands_per_wisp, p.section.MeanRadius(),
-                                        HelixCurliness(p.natural_curvature),
-                                        style.wisps.packing_fraction);
+    // The wisp thickness (section 3.1) from its strand count and the curliness of the natural
+    // (gravity-free) shape, sqrt((L/d)^2 - 1) with d its end-to-end distance: tan(alpha) for a
+    // helix of whole turns, and ~0 for the nearly straight planar arcs of straight hair, which
+    // HelixCurliness (kappa/|tau|) would count as infinitely curly.
+    const double r_w =
+        style.wisps.wisp_radius > 0.0
+            ? style.wisps.wisp_radius
+            : WispRadius(style.wisps.strands_per_wisp, p.section.MeanRadius(),
+                         Curliness(SampleFramedCentreline(m, m.NaturalCurvatures(), 1)),
+                         style.wisps.packing_fraction);
     out.wisp_radii[i] = r_w;
     radius_sum += r_w;
     out.layers[i] = HullLayerOf(style.layers, root.head.polar_angle, max_polar);
