@@ -1,0 +1,35 @@
+#!/bin/sh
+# Before/after pictures of the styling operations (docs/styling.md): wetting the wavy example and
+# cutting the straight example at z = -0.12 m with --settle, each beside the groomed original.
+#
+#   scripts/make_styling_pictures.sh [BUILD_DIR] [IMAGE_DIR]     (defaults: build, docs/images)
+#
+# Needs ringlet built in BUILD_DIR and /usr/bin/python3 with numpy and matplotlib. Outputs go to
+# BUILD_DIR/styling/<name>/, each summary in BUILD_DIR/styling/<name>.log.
+set -eu
+cd "$(dirname "$0")/.."
+build=${1:-build}
+images=${2:-docs/images}
+python=/usr/bin/python3
+out=$build/styling
+mkdir -p "$out" "$images"
+if [ ! -x "$build/ringlet" ]; then
+  echo "make_styling_pictures.sh: $build/ringlet not found; build it first" >&2
+  exit 1
+fi
+run() {  # run NAME ARGS...
+  name=$1
+  shift
+  echo "== ringlet $* -o $out/$name/"
+  "$build/ringlet" "$@" -o "$out/$name" --force | tee "$out/$name.log"
+}
+run wavy groom examples/hairstyles/wavy.json
+run wavy_wet style examples/hairstyles/wavy.json --wet
+$python scripts/plot_groom.py "$out/wavy" "$out/wavy_wet" -o "$images/style_wet.png" \
+  --palette wavy --views side --labels "dry" "wet (--wet)" \
+  --title "wavy.json dry and wet: E / 10, radius x 1.13, water weight, thinner hull layers"
+run straight groom examples/hairstyles/straight.json
+run straight_cut style examples/hairstyles/straight.json --cut-z -0.12 --settle
+$python scripts/plot_groom.py "$out/straight" "$out/straight_cut" -o "$images/style_cut.png" \
+  --palette straight --views side --labels "groomed" "cut at z = -0.12 m (--settle)" \
+  --title "straight.json before and after a cut: the lighter hair rises, --settle re-cuts"
