@@ -17,6 +17,7 @@
 
 #include "commands.h"
 #include "format.h"
+#include "outputs.h"
 #include "progress.h"
 #include "ringlet/atomic_file.h"
 #include "ringlet/hair_file.h"
@@ -53,10 +54,6 @@ struct GroomArgs {
   double hair_units_per_metre = 1.0;
 };
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // "hair,usda" -> {"hair", "usda"}; unknown names are an error naming the valid ones.
 bool ParseFormats(const std::string& text, std::set<std::string>* formats, std::string* error) {
   std::stringstream stream(text);
@@ -76,33 +73,6 @@ bool ParseFormats(const std::string& text, std::set<std::string>* formats, std::
   if (formats->empty()) {
     *error = "--formats: expected at least one of " + valid;
     return false;
-  }
-  return true;
-}
-
-// The output directory may exist (it is created otherwise), but none of the files to write may,
-// unless --force: nothing the user had is overwritten silently. Checked before any work.
-bool CheckOutputDirectory(const GroomArgs& args, const std::set<std::string>& formats,
-                          std::string* error) {
-  if (args.output_dir.empty()) {
-    *error = "--output: expected a directory name, got an empty string";
-    return false;
-  }
-  std::error_code ec;
-  const fs::file_status status = fs::status(args.output_dir, ec);
-  if (!fs::exists(status)) return true;
-  if (!fs::is_directory(status)) {
-    *error = args.output_dir + ": exists and is not a directory; give a directory to --output";
-    return false;
-  }
-  if (args.force) return true;
-  for (const OutputFile& o : kOutputs) {
-    if (!formats.count(o.format)) continue;
-    const fs::path file = fs::path(args.output_dir) / o.name;
-    if (fs::exists(file, ec)) {
-      *error = file.string() + ": already exists (use --force to overwrite it)";
-      return false;
-    }
   }
   return true;
 }
@@ -149,7 +119,11 @@ int RunGroom(const GroomArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
-  if (!CheckOutputDirectory(args, formats, &error)) {
+  std::vector<std::string> names;
+  for (const OutputFile& o : kOutputs) {
+    if (formats.count(o.format)) names.push_back(o.name);
+  }
+  if (!CheckOutputDirectory(args.output_dir, names, args.force, &error)) {
     PrintError(error);
     return kExitBadInput;
   }
@@ -198,18 +172,9 @@ int RunGroom(const GroomArgs& args) {
     }
     files.emplace_back(o.name, std::move(contents));
   }
-  std::error_code ec;
-  fs::create_directories(args.output_dir, ec);
-  if (ec) {
-    PrintError(args.output_dir + ": cannot create the directory: " + ec.message());
+  if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
+    PrintError(error);
     return kExitBadInput;
-  }
-  for (const auto& [name, contents] : files) {
-    const std::string path = (fs::path(args.output_dir) / name).string();
-    if (!WriteFileAtomically(path, contents, args.force, &error)) {
-      PrintError(error);
-      return kExitBadInput;
-    }
   }
   const double write_seconds = SecondsSince(write_start);
 

@@ -19,6 +19,7 @@
 
 #include "commands.h"
 #include "format.h"
+#include "outputs.h"
 #include "progress.h"
 #include "ringlet/atomic_file.h"
 #include "ringlet/hair_file.h"
@@ -54,10 +55,6 @@ struct StyleArgs {
   double hair_units_per_metre = 1.0;
 };
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // "R,P" -> (R, P) in metres; "inf" is allowed for R (straighten).
 bool ParseCurl(const std::string& text, double* radius, double* pitch) {
   const size_t comma = text.find(',');
@@ -80,30 +77,6 @@ std::vector<std::string> OutputNames(int grow_steps) {
   for (int t = 1; t <= grow_steps; ++t) names.push_back(Format("step_%03d.hair", t));
   if (grow_steps > 0) names.push_back("grow.usda");
   return names;
-}
-
-bool CheckOutputDirectory(const StyleArgs& args, const std::vector<std::string>& names,
-                          std::string* error) {
-  if (args.output_dir.empty()) {
-    *error = "--output: expected a directory name, got an empty string";
-    return false;
-  }
-  std::error_code ec;
-  const fs::file_status status = fs::status(args.output_dir, ec);
-  if (!fs::exists(status)) return true;
-  if (!fs::is_directory(status)) {
-    *error = args.output_dir + ": exists and is not a directory; give a directory to --output";
-    return false;
-  }
-  if (args.force) return true;
-  for (const std::string& name : names) {
-    const fs::path file = fs::path(args.output_dir) / name;
-    if (fs::exists(file, ec)) {
-      *error = file.string() + ": already exists (use --force to overwrite it)";
-      return false;
-    }
-  }
-  return true;
 }
 
 std::string MastersJson(const StyledHair& state, const std::vector<OperationReport>& reports,
@@ -143,7 +116,7 @@ int RunStyle(const StyleArgs& args) {
     if (op.kind == StyleOperation::Kind::kGrow) grow_steps += args.steps;
   }
   const std::vector<std::string> names = OutputNames(grow_steps);
-  if (!CheckOutputDirectory(args, names, &error)) {
+  if (!CheckOutputDirectory(args.output_dir, names, args.force, &error)) {
     PrintError(error);
     return kExitBadInput;
   }
@@ -263,18 +236,9 @@ int RunStyle(const StyleArgs& args) {
     });
   }
   if (!ok) return kExitBadInput;
-  std::error_code ec;
-  fs::create_directories(args.output_dir, ec);
-  if (ec) {
-    PrintError(args.output_dir + ": cannot create the directory: " + ec.message());
+  if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
+    PrintError(error);
     return kExitBadInput;
-  }
-  for (const auto& [name, contents] : files) {
-    const std::string path = (fs::path(args.output_dir) / name).string();
-    if (!WriteFileAtomically(path, contents, args.force, &error)) {
-      PrintError(error);
-      return kExitBadInput;
-    }
   }
   int unconverged = 0;
   for (const StrandSolution& s : state.solutions) unconverged += s.summary.Converged() ? 0 : 1;

@@ -1,0 +1,56 @@
+#include "outputs.h"
+
+#include <filesystem>
+#include <system_error>
+
+#include "ringlet/atomic_file.h"
+
+namespace ringlet::cli {
+
+namespace fs = std::filesystem;
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool CheckOutputDirectory(const std::string& directory, const std::vector<std::string>& names,
+                          bool force, std::string* error) {
+  if (directory.empty()) {
+    *error = "--output: expected a directory name, got an empty string";
+    return false;
+  }
+  std::error_code ec;
+  const fs::file_status status = fs::status(directory, ec);
+  if (!fs::exists(status)) return true;
+  if (!fs::is_directory(status)) {
+    *error = directory + ": exists and is not a directory; give a directory to --output";
+    return false;
+  }
+  if (force) return true;
+  for (const std::string& name : names) {
+    const fs::path file = fs::path(directory) / name;
+    if (fs::exists(file, ec)) {
+      *error = file.string() + ": already exists (use --force to overwrite it)";
+      return false;
+    }
+  }
+  return true;
+}
+
+bool WriteOutputFiles(const std::string& directory,
+                      const std::vector<std::pair<std::string, std::string>>& files, bool force,
+                      std::string* error) {
+  std::error_code ec;
+  fs::create_directories(directory, ec);
+  if (ec) {
+    *error = directory + ": cannot create the directory: " + ec.message();
+    return false;
+  }
+  for (const auto& [name, contents] : files) {
+    const std::string path = (fs::path(directory) / name).string();
+    if (!WriteFileAtomically(path, contents, force, error)) return false;
+  }
+  return true;
+}
+
+}  // namespace ringlet::cli
