@@ -30,7 +30,6 @@
 namespace ringlet::cli {
 namespace {
 
-namespace fs = std::filesystem;
 
 // The files of a groom, by format name (--formats).
 struct OutputFile {

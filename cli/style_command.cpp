@@ -33,7 +33,6 @@
 namespace ringlet::cli {
 namespace {
 
-namespace fs = std::filesystem;
 
 // One operation of the command line, in order.
 struct StyleOperation {
