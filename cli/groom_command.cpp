@@ -30,7 +30,6 @@
 namespace ringlet::cli {
 namespace {
 
-
 // The files of a groom, by format name (--formats).
 struct OutputFile {
   const char* format;
