@@ -1,0 +1,21 @@
+// PNG files of rendered images (libpng): linear radiance to 8-bit sRGB, and back for tests.
+#pragma once
+
+#include <string>
+
+#include "ringlet/render.h"
+
+namespace ringlet {
+
+/// Writes image to path as an 8-bit RGB PNG: each channel is multiplied by exposure, clamped to
+/// [0, 1] and encoded with the sRGB transfer function (IEC 61966-2-1), with an sRGB chunk.
+/// Written through a temporary file (atomic_file.h): an existing file is replaced only when
+/// overwrite is true, and a failure leaves nothing behind. Returns false with a one-line message.
+bool WritePng(const std::string& path, const Image& image, double exposure, bool overwrite,
+              std::string* error);
+
+/// Reads an 8-bit RGB or RGBA PNG into linear values (the inverse sRGB transfer function;
+/// alpha dropped). Returns false with a one-line message naming the file.
+bool ReadPng(const std::string& path, Image* image, std::string* error);
+
+}  // namespace ringlet

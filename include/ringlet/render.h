@@ -1,0 +1,115 @@
+// ringlet's offline renderer: hair curves and the body ray traced with Embree 3, fibres shaded by
+// a FibreScattering model (Marschner et al. 2003 / Chiang et al. 2016, hair_bsdf.h), lit by a key
+// light and an environment; tiles in parallel, deterministic for a seed whatever the threads.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ringlet/body.h"
+#include "ringlet/fibre_scattering.h"
+#include "ringlet/hair_curves.h"
+#include "ringlet/math.h"
+
+namespace ringlet {
+
+/// A linear-RGB image (radiance, W sr^-1 m^-2 per channel in the renderer's units), row-major,
+/// top row first.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<Eigen::Vector3f> pixels;  ///< width * height values
+
+  Eigen::Vector3f& At(int x, int y) { return pixels[static_cast<size_t>(y) * width + x]; }
+  const Eigen::Vector3f& At(int x, int y) const {
+    return pixels[static_cast<size_t>(y) * width + x];
+  }
+};
+
+/// A pinhole camera (world coordinates, m).
+struct Camera {
+  Vec3 position = Vec3(0.0, -1.0, 0.0);
+  Vec3 look_at = Vec3::Zero();
+  Vec3 up = Vec3::UnitZ();
+  double vertical_fov = 0.5;  ///< full vertical field of view (rad), in (0, pi)
+};
+
+/// A camera looking along view_direction (from the camera toward the scene) at the centre of the
+/// box, far enough that the box's bounding sphere fills the frame (vertical_fov, aspect = width /
+/// height) with a small margin; up is world +z.
+Camera FrameCamera(const Eigen::AlignedBox3d& box, const Vec3& view_direction,
+                   double vertical_fov, double aspect);
+
+/// The key light: a distant disk (the sun, a studio spot far away) of angular radius
+/// angular_radius around direction (toward the light), giving irradiance `irradiance` (W/m^2 per
+/// channel) on a surface facing it.
+struct KeyLight {
+  Vec3 direction = Vec3(-0.5, -1.0, 1.0).normalized();
+  double angular_radius = 0.02;  ///< rad, > 0
+  Rgb irradiance = Rgb(3.0, 3.0, 3.0);
+};
+
+/// The environment: radiance arriving from infinity, blended from `bottom` (straight down) to
+/// `top` (straight up) linearly in the z of the direction. top = bottom = 1 is the white furnace.
+struct Environment {
+  Rgb top = Rgb(0.35, 0.38, 0.45);
+  Rgb bottom = Rgb(0.12, 0.11, 0.10);
+};
+
+/// How shadow rays treat hair.
+enum class ShadowMode : std::uint8_t {
+  /// Fibres block shadow rays; light through hair arrives by path-traced scattering (TT lobes)
+  /// over up to max_bounces bounces. Unbiased for the model: the default.
+  kPathTraced,
+  /// Direct lighting only (no bounces); a shadow ray crossing a fibre is multiplied by the
+  /// fibre's FibreScattering::Transmittance. Fast preview in the spirit of deep shadow maps
+  /// (Lokovic & Veach 2000), without multiple scattering.
+  kFibreTransmittance,
+};
+
+/// What to render. The pointers must outlive the Render call.
+struct RenderScene {
+  const HairCurves* hair = nullptr;                  ///< may be null (body only)
+  std::shared_ptr<const FibreScattering> fibre;      ///< required when hair is set
+  std::shared_ptr<const Body> body;                  ///< may be null (hair only)
+  Rgb body_albedo = Rgb(0.55, 0.42, 0.36);           ///< Lambertian body reflectance in [0, 1]
+  /// Seed of the per-strand cross-section orientation (elliptic fibres), uniform in [0, pi).
+  std::uint64_t orientation_seed = 1;
+  Camera camera;
+  KeyLight key;
+  Environment environment;
+};
+
+/// How to render it.
+struct RenderOptions {
+  int width = 800;              ///< pixels, >= 1
+  int height = 800;             ///< pixels, >= 1
+  int samples_per_pixel = 16;   ///< >= 1
+  std::uint64_t seed = 1;       ///< same seed, same image, whatever the thread count
+  int max_bounces = 16;         ///< scattering events after the first hit (kPathTraced), >= 0
+  ShadowMode shadows = ShadowMode::kPathTraced;
+  int threads = 0;              ///< 0 = all cores
+  int tile_size = 32;           ///< pixels per tile side
+  /// Called after each finished tile with (tiles done, tiles total), never concurrently.
+  std::function<void(long, long)> progress;
+};
+
+/// What a render did, for summaries: nothing numerical is hidden.
+struct RenderStats {
+  double seconds = 0.0;
+  std::int64_t camera_rays = 0;
+  std::int64_t rays = 0;            ///< all rays traced (camera, bounce, shadow)
+  std::int64_t nan_samples = 0;     ///< samples discarded because they were NaN or infinite
+  int hair_segments = 0;            ///< curve segments given to Embree
+  int body_primitives = 0;          ///< spheres + triangles given to Embree
+};
+
+/// Renders the scene. Returns false with a one-line message in error (Embree failures, invalid
+/// options naming the field) and leaves image untouched.
+bool Render(const RenderScene& scene, const RenderOptions& options, Image* image,
+            RenderStats* stats, std::string* error);
+
+}  // namespace ringlet
