@@ -45,18 +45,21 @@ Camera FrameCamera(const Eigen::AlignedBox3d& box, const Vec3& view_direction,
 
 /// The key light: a distant disk (the sun, a studio spot far away) of angular radius
 /// angular_radius around direction (toward the light), giving irradiance `irradiance` (W/m^2 per
-/// channel) on a surface facing it.
+/// channel) on a surface facing it. Its radiance is uniform over the disk, irradiance / (pi
+/// sin^2(angular_radius)) (the projected solid angle of a spherical cap is pi sin^2 r, so a
+/// surface tilted by theta from direction receives exactly irradiance cos(theta) while the
+/// whole disk is above its horizon). Irradiance 0 turns the key light off.
 struct KeyLight {
-  Vec3 direction = Vec3(-0.5, -1.0, 1.0).normalized();
-  double angular_radius = 0.02;  ///< rad, > 0
-  Rgb irradiance = Rgb(3.0, 3.0, 3.0);
+  Vec3 direction = Vec3(-0.5, -1.0, 1.0).normalized();  ///< toward the light, finite, non-zero
+  double angular_radius = 0.02;  ///< rad, in (0, pi/2)
+  Rgb irradiance = Rgb(3.0, 3.0, 3.0);  ///< W/m^2 per channel, finite, >= 0
 };
 
 /// The environment: radiance arriving from infinity, blended from `bottom` (straight down) to
 /// `top` (straight up) linearly in the z of the direction. top = bottom = 1 is the white furnace.
 struct Environment {
-  Rgb top = Rgb(0.35, 0.38, 0.45);
-  Rgb bottom = Rgb(0.12, 0.11, 0.10);
+  Rgb top = Rgb(0.35, 0.38, 0.45);     ///< W sr^-1 m^-2 per channel, finite, >= 0
+  Rgb bottom = Rgb(0.12, 0.11, 0.10);  ///< W sr^-1 m^-2 per channel, finite, >= 0
 };
 
 /// How shadow rays treat hair.
@@ -89,10 +92,16 @@ struct RenderOptions {
   int height = 800;             ///< pixels, >= 1
   int samples_per_pixel = 16;   ///< >= 1
   std::uint64_t seed = 1;       ///< same seed, same image, whatever the thread count
-  int max_bounces = 16;         ///< scattering events after the first hit (kPathTraced), >= 0
+  /// Scattering events after the first hit (kPathTraced), >= 0: 0 is direct light only (light
+  /// sampling and BSDF sampling at the first hit, weighted by MIS). Russian roulette ends
+  /// paths from the third bounce on (unbiased).
+  int max_bounces = 16;
   ShadowMode shadows = ShadowMode::kPathTraced;
   int threads = 0;              ///< 0 = all cores
-  int tile_size = 32;           ///< pixels per tile side
+  int tile_size = 32;           ///< pixels per tile side, >= 1
+  /// true: each sample at a uniform random point of its pixel (box filter); false: every
+  /// sample through the pixel's centre (tests that need to know where rays go).
+  bool jitter = true;
   /// Called after each finished tile with (tiles done, tiles total), never concurrently.
   std::function<void(long, long)> progress;
 };

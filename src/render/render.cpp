@@ -1,0 +1,408 @@
+// The tracer: validation, tiles in parallel, and the path integrator (render.h).
+#include "ringlet/render.h"
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <numbers>
+#include <sstream>
+
+#include "io/curves_check.h"
+#include "render/camera.h"
+#include "render/embree_scene.h"
+#include "render/sampler.h"
+
+namespace ringlet {
+namespace render {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// Russian roulette starts at this bounce (pbrt-v3's rrDepth is 3 as well).
+constexpr int kRouletteBounce = 3;
+
+// The lights in the form the integrator uses them.
+struct Lights {
+  // Key light: a uniform disk of radiance key_radiance on the cone of directions within
+  // angular_radius of key_direction. The irradiance it gives a surface facing it is the
+  // radiance times the cap's projected solid angle, integral cos(theta) dw = pi sin^2(r)
+  // (exact for a uniform spherical cap; and pi sin^2(r) cos(theta_n) on a surface tilted by
+  // theta_n while the whole cap is above its horizon), so key_radiance = E / (pi sin^2 r).
+  // Dividing by the solid angle 2 pi (1 - cos r) instead would be off by (1 + cos r) / 2,
+  // 1e-4 for r = 0.02 rad.
+  bool key_on = false;
+  Vec3 key_direction = Vec3::UnitZ();
+  double key_cos_max = 1.0;
+  double key_pdf = 0.0;  // 1 / (2 pi (1 - cos r)), uniform cone sampling (1/sr)
+  Rgb key_radiance = Rgb::Zero();
+  Frame key_frame{Vec3::UnitZ()};
+  // Environment: blended linearly in the z of the direction.
+  bool environment_on = false;
+  Rgb top = Rgb::Zero();
+  Rgb bottom = Rgb::Zero();
+
+  Rgb Key(const Vec3& w) const {
+    return key_on && w.dot(key_direction) >= key_cos_max ? key_radiance : Rgb::Zero();
+  }
+  Rgb Environment(const Vec3& w) const {
+    const double a = 0.5 * (w.z() + 1.0);
+    return (1.0 - a) * bottom + a * top;
+  }
+};
+
+Lights MakeLights(const RenderScene& scene) {
+  Lights lights;
+  const KeyLight& key = scene.key;
+  lights.key_on = key.irradiance.maxCoeff() > 0.0;
+  lights.key_direction = key.direction.normalized();
+  lights.key_cos_max = std::cos(key.angular_radius);
+  // 1 - cos r = 2 sin^2(r / 2): no cancellation for small r.
+  const double one_minus_cos = 2.0 * std::pow(std::sin(0.5 * key.angular_radius), 2);
+  lights.key_pdf = 1.0 / (2.0 * std::numbers::pi * one_minus_cos);
+  lights.key_radiance =
+      key.irradiance / (std::numbers::pi * std::pow(std::sin(key.angular_radius), 2));
+  lights.key_frame = Frame(lights.key_direction);
+  lights.top = scene.environment.top;
+  lights.bottom = scene.environment.bottom;
+  lights.environment_on = std::max(lights.top.maxCoeff(), lights.bottom.maxCoeff()) > 0.0;
+  return lights;
+}
+
+// Everything a sample needs, shared read-only by the threads.
+struct Context {
+  const EmbreeScene* scene;
+  const FibreScattering* fibre;
+  const RenderScene* render_scene;
+  const RenderOptions* options;
+  Lights lights;
+  PinholeCamera camera;
+};
+
+// A scattering vertex: a fibre or the Lambertian body, with where rays leave from.
+struct Vertex {
+  bool fibre = false;
+  FibreFrame frame;              // fibre
+  Vec3 wo_local = Vec3::Zero();  // fibre
+  Vec3 normal = Vec3::UnitZ();   // body, facing wo
+  Frame body_frame{Vec3::UnitZ()};
+  Vec3 origin = Vec3::Zero();
+  RayIgnore ignore;
+
+  // f(wo, wi) including the cosine (fibre_scattering.h's convention; Lambert: albedo cos / pi).
+  Rgb Eval(const Context& c, const Vec3& wi) const {
+    if (fibre) return c.fibre->Eval(wo_local, frame.ToLocal(wi), frame.hit);
+    return c.render_scene->body_albedo * (std::max(0.0, normal.dot(wi)) * std::numbers::inv_pi);
+  }
+  double Pdf(const Context& c, const Vec3& wi) const {
+    if (fibre) return c.fibre->Pdf(wo_local, frame.ToLocal(wi), frame.hit);
+    return std::max(0.0, normal.dot(wi)) * std::numbers::inv_pi;
+  }
+  // A direction to sample the environment with: uniform on the sphere for fibres (they scatter
+  // all around), cosine-weighted for the body.
+  Vec3 SampleEnvironment(double u1, double u2, double* pdf) const {
+    if (fibre) {
+      *pdf = kUniformSpherePdf;
+      return UniformSphere(u1, u2);
+    }
+    const Vec3 wi = CosineHemisphere(body_frame, u1, u2);
+    *pdf = std::max(0.0, normal.dot(wi)) * std::numbers::inv_pi;
+    return wi;
+  }
+  double EnvironmentPdf(const Vec3& wi) const {
+    if (fibre) return kUniformSpherePdf;
+    return std::max(0.0, normal.dot(wi)) * std::numbers::inv_pi;
+  }
+};
+
+Vertex MakeVertex(const Context& c, const SurfaceHit& hit, const Vec3& wo) {
+  Vertex v;
+  if (hit.kind == HitKind::kHair) {
+    v.fibre = true;
+    v.frame = MakeFibreFrame(hit, wo, c.render_scene->orientation_seed);
+    v.wo_local = v.frame.ToLocal(wo);
+    v.origin = hit.p;
+    v.ignore = c.scene->IgnoreFor(hit);
+  } else {
+    // The body is closed and seen from outside; flip anyway if a ray arrives from inside.
+    v.normal = hit.normal.dot(wo) >= 0.0 ? hit.normal : Vec3(-hit.normal);
+    v.body_frame = Frame(v.normal);
+    v.origin = hit.p + c.scene->body_offset() * v.normal;
+  }
+  return v;
+}
+
+// What reaches the vertex from direction wi (unit) of the lights, through the scene: 1 or 0 in
+// kPathTraced (fibres opaque), the fibres' transmittance product in kFibreTransmittance.
+Rgb Visibility(const Context& c, const Vertex& v, const Vec3& wi, std::int64_t* rays) {
+  if (c.options->shadows == ShadowMode::kFibreTransmittance) {
+    if (c.fibre == nullptr) {
+      ++*rays;
+      return c.scene->Occluded(v.origin, wi, 0.0, kInfinity, v.ignore) ? Rgb::Zero() : Rgb::Ones();
+    }
+    return ShadowTransmittance(*c.scene, *c.fibre, c.render_scene->orientation_seed, v.origin, wi,
+                               0.0, kInfinity, v.ignore, rays);
+  }
+  ++*rays;
+  return c.scene->Occluded(v.origin, wi, 0.0, kInfinity, v.ignore) ? Rgb::Zero() : Rgb::Ones();
+}
+
+// Next-event estimation at v: one key-light sample (uniform cone) and one environment sample,
+// each weighted against BSDF sampling by the power heuristic when mis is true.
+Rgb DirectLight(const Context& c, const Vertex& v, bool mis, SampleRng* rng, std::int64_t* rays) {
+  Rgb radiance = Rgb::Zero();
+  const Lights& lights = c.lights;
+  const double u1 = rng->Uniform(), u2 = rng->Uniform(), u3 = rng->Uniform(), u4 = rng->Uniform();
+  if (lights.key_on) {
+    const Vec3 wi = UniformCone(lights.key_frame, lights.key_cos_max, u1, u2);
+    const Rgb f = v.Eval(c, wi);
+    if (f.maxCoeff() > 0.0) {
+      const double weight = mis ? PowerHeuristic(lights.key_pdf, v.Pdf(c, wi)) : 1.0;
+      const Rgb visible = Visibility(c, v, wi, rays);
+      radiance += f.cwiseProduct(visible).cwiseProduct(lights.key_radiance) *
+                  (weight / lights.key_pdf);
+    }
+  }
+  if (lights.environment_on) {
+    double pdf = 0.0;
+    const Vec3 wi = v.SampleEnvironment(u3, u4, &pdf);
+    const Rgb f = pdf > 0.0 ? v.Eval(c, wi) : Rgb::Zero();
+    if (f.maxCoeff() > 0.0) {
+      const double weight = mis ? PowerHeuristic(pdf, v.Pdf(c, wi)) : 1.0;
+      const Rgb visible = Visibility(c, v, wi, rays);
+      radiance += f.cwiseProduct(visible).cwiseProduct(lights.Environment(wi)) * (weight / pdf);
+    }
+  }
+  return radiance;
+}
+
+// The radiance arriving along the camera ray (org, dir): path tracing with next-event
+// estimation and MIS (Veach 1997, ch. 9; pbrt-v3's PathIntegrator), or direct light through
+// fibre transmittance in kFibreTransmittance.
+Rgb TraceSample(const Context& c, const Vec3& org, Vec3 dir, SampleRng* rng, std::int64_t* rays) {
+  const bool direct_only = c.options->shadows == ShadowMode::kFibreTransmittance;
+  ++*rays;
+  SurfaceHit hit = c.scene->Intersect(org, dir, 0.0, kInfinity, RayIgnore());
+  if (hit.kind == HitKind::kNone) return c.lights.Environment(dir) + c.lights.Key(dir);
+  Rgb radiance = Rgb::Zero();
+  Rgb beta = Rgb::Ones();
+  for (int bounce = 0;; ++bounce) {
+    const Vertex v = MakeVertex(c, hit, -dir);
+    radiance += beta.cwiseProduct(DirectLight(c, v, !direct_only, rng, rays));
+    if (direct_only) break;
+
+    // Sample the next direction from the scattering model.
+    std::array<double, 4> u;
+    for (double& x : u) x = rng->Uniform();
+    Vec3 wi;
+    Rgb weight;
+    double pdf = 0.0;
+    if (v.fibre) {
+      const ScatterSample s = c.fibre->Sample(v.wo_local, v.frame.hit, u);
+      wi = v.frame.ToWorld(s.wi);
+      weight = s.weight;
+      pdf = s.pdf;
+    } else {
+      wi = CosineHemisphere(v.body_frame, u[0], u[1]);
+      pdf = std::max(0.0, v.normal.dot(wi)) * std::numbers::inv_pi;
+      weight = c.render_scene->body_albedo;  // (albedo cos / pi) / (cos / pi)
+    }
+    if (!(pdf > 0.0) || !(weight.maxCoeff() > 0.0)) break;
+    beta = beta.cwiseProduct(weight);
+
+    // Follow it; if it escapes, the lights it sees count with the BSDF strategy's MIS weight.
+    ++*rays;
+    hit = c.scene->Intersect(v.origin, wi, 0.0, kInfinity, v.ignore);
+    if (hit.kind == HitKind::kNone) {
+      const Rgb seen =
+          c.lights.Environment(wi) * PowerHeuristic(pdf, v.EnvironmentPdf(wi)) +
+          c.lights.Key(wi) * PowerHeuristic(pdf, c.lights.key_pdf);
+      radiance += beta.cwiseProduct(seen);
+      break;
+    }
+    if (bounce + 1 > c.options->max_bounces) break;
+    // Russian roulette (Arvo & Kirk 1990): continue with probability q = min(1, max beta)
+    // and divide by q, unbiased.
+    if (bounce + 1 >= kRouletteBounce) {
+      const double q = std::min(1.0, beta.maxCoeff());
+      if (rng->Uniform() >= q) break;
+      beta /= q;
+    }
+    dir = wi;
+  }
+  return radiance;
+}
+
+bool CheckRgb(const Rgb& value, const char* field, double max, std::string* why) {
+  if (value.allFinite() && value.minCoeff() >= 0.0 && value.maxCoeff() <= max) return true;
+  std::ostringstream message;
+  message << field << ": expected finite values in [0, " << max << "], got (" << value.x()
+          << ", " << value.y() << ", " << value.z() << ")";
+  *why = message.str();
+  return false;
+}
+
+bool CheckInt(long long value, long long min, long long max, const char* field, std::string* why) {
+  if (value >= min && value <= max) return true;
+  std::ostringstream message;
+  message << field << ": expected an integer in [" << min << ", " << max << "], got " << value;
+  *why = message.str();
+  return false;
+}
+
+// Checks everything Render relies on; one line naming the field on failure.
+bool CheckInputs(const RenderScene& scene, const RenderOptions& options, PinholeCamera* camera,
+                 std::string* why) {
+  constexpr long long kMaxSide = 1 << 16;
+  if (!CheckInt(options.width, 1, kMaxSide, "options.width", why) ||
+      !CheckInt(options.height, 1, kMaxSide, "options.height", why) ||
+      !CheckInt(options.samples_per_pixel, 1, 1 << 20, "options.samples_per_pixel", why) ||
+      !CheckInt(options.max_bounces, 0, 1 << 16, "options.max_bounces", why) ||
+      !CheckInt(options.threads, 0, 1 << 12, "options.threads", why) ||
+      !CheckInt(options.tile_size, 1, kMaxSide, "options.tile_size", why)) {
+    return false;
+  }
+  if (!MakePinholeCamera(scene.camera, options.width, options.height, camera, why)) return false;
+  if (scene.hair != nullptr) {
+    if (scene.fibre == nullptr) {
+      *why = "fibre: a FibreScattering model is required when hair is set";
+      return false;
+    }
+    if (!io_internal::CheckHairCurves(*scene.hair, "hair", why)) return false;
+    if (scene.hair->points.size() >= std::numeric_limits<std::uint32_t>::max()) {
+      *why = "hair.points: more than 2^32 - 2 points (Embree's 32-bit indices)";
+      return false;
+    }
+  }
+  if (!CheckRgb(scene.body_albedo, "body_albedo", 1.0, why)) return false;
+  const KeyLight& key = scene.key;
+  if (!key.direction.allFinite() || !(key.direction.norm() > 0.0)) {
+    *why = "key.direction: expected a finite non-zero vector";
+    return false;
+  }
+  if (!(key.angular_radius > 0.0 && key.angular_radius < 0.5 * std::numbers::pi)) {
+    std::ostringstream message;
+    message << "key.angular_radius: expected a number in (0, pi/2) (rad), got "
+            << key.angular_radius;
+    *why = message.str();
+    return false;
+  }
+  constexpr double kMaxFinite = std::numeric_limits<double>::max();
+  return CheckRgb(key.irradiance, "key.irradiance", kMaxFinite, why) &&
+         CheckRgb(scene.environment.top, "environment.top", kMaxFinite, why) &&
+         CheckRgb(scene.environment.bottom, "environment.bottom", kMaxFinite, why);
+}
+
+}  // namespace
+}  // namespace render
+
+bool Render(const RenderScene& scene, const RenderOptions& options, Image* image,
+            RenderStats* stats, std::string* error) {
+  using namespace render;
+  const auto start = std::chrono::steady_clock::now();
+  std::string why;
+  Context c;
+  if (image == nullptr) {
+    if (error != nullptr) *error = "image: expected a non-null output image";
+    return false;
+  }
+  if (!CheckInputs(scene, options, &c.camera, &why)) {
+    if (error != nullptr) *error = why;
+    return false;
+  }
+  c.render_scene = &scene;
+  c.options = &options;
+  c.fibre = scene.hair != nullptr ? scene.fibre.get() : nullptr;
+  c.lights = MakeLights(scene);
+
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  std::unique_ptr<EmbreeScene> embree;
+  arena.execute([&] { embree = EmbreeScene::Create(scene.hair, scene.body.get(), &why); });
+  if (embree == nullptr) {
+    if (error != nullptr) *error = why;
+    return false;
+  }
+  c.scene = embree.get();
+
+  // Tiles in row-major order; each pixel's samples use their own random streams, so the
+  // result does not depend on which thread renders which tile.
+  const int width = options.width;
+  const int height = options.height;
+  const int tile = options.tile_size;
+  const long tiles_x = (width + tile - 1) / tile;
+  const long tiles_y = (height + tile - 1) / tile;
+  const long tiles = tiles_x * tiles_y;
+  const int spp = options.samples_per_pixel;
+  Image result;
+  result.width = width;
+  result.height = height;
+  result.pixels.assign(static_cast<size_t>(width) * height, Eigen::Vector3f::Zero());
+  std::atomic<std::int64_t> rays{0};
+  std::atomic<std::int64_t> nan_samples{0};
+  std::mutex progress_mutex;
+  long tiles_done = 0;
+
+  auto render_tile = [&](long index) {
+    const int x0 = static_cast<int>(index % tiles_x) * tile;
+    const int y0 = static_cast<int>(index / tiles_x) * tile;
+    const int x1 = std::min(x0 + tile, width);
+    const int y1 = std::min(y0 + tile, height);
+    std::int64_t tile_rays = 0;
+    std::int64_t tile_nans = 0;
+    for (int y = y0; y < y1; ++y) {
+      for (int x = x0; x < x1; ++x) {
+        const std::uint64_t pixel = static_cast<std::uint64_t>(y) * width + x;
+        Rgb sum = Rgb::Zero();
+        int valid = 0;
+        for (int s = 0; s < spp; ++s) {
+          SampleRng rng(options.seed, pixel, static_cast<std::uint64_t>(s));
+          // Box filter: a uniform point in the pixel (its centre without jitter).
+          const double jx = rng.Uniform();
+          const double jy = rng.Uniform();
+          const double px = x + (options.jitter ? jx : 0.5);
+          const double py = y + (options.jitter ? jy : 0.5);
+          const Rgb value = TraceSample(c, c.camera.position, c.camera.Direction(px, py), &rng,
+                                        &tile_rays);
+          if (!value.allFinite()) {
+            ++tile_nans;
+            continue;
+          }
+          sum += value;
+          ++valid;
+        }
+        if (valid > 0) result.At(x, y) = (sum / valid).cast<float>();
+      }
+    }
+    rays += tile_rays;
+    nan_samples += tile_nans;
+    if (options.progress) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      options.progress(++tiles_done, tiles);
+    }
+  };
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<long>(0, tiles, 1), [&](const tbb::blocked_range<long>& r) {
+      for (long i = r.begin(); i != r.end(); ++i) render_tile(i);
+    });
+  });
+
+  *image = std::move(result);
+  if (stats != nullptr) {
+    stats->camera_rays = static_cast<std::int64_t>(width) * height * spp;
+    stats->rays = rays.load();
+    stats->nan_samples = nan_samples.load();
+    stats->hair_segments = embree->hair_segments();
+    stats->body_primitives = embree->body_primitives();
+    stats->seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return true;
+}
+
+}  // namespace ringlet
