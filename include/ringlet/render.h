@@ -108,7 +108,8 @@ struct RenderOptions {
 
 /// What a render did, for summaries: nothing numerical is hidden.
 struct RenderStats {
-  double seconds = 0.0;
+  double seconds = 0.0;              ///< wall time of the whole call (s)
+  double build_seconds = 0.0;        ///< of which building the Embree scene (s)
   std::int64_t camera_rays = 0;
   std::int64_t rays = 0;            ///< all rays traced (camera, bounce, shadow)
   std::int64_t nan_samples = 0;     ///< samples discarded because they were NaN or infinite

@@ -323,7 +323,10 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
 
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   std::unique_ptr<EmbreeScene> embree;
+  const auto build_start = std::chrono::steady_clock::now();
   arena.execute([&] { embree = EmbreeScene::Create(scene.hair, scene.body.get(), &why); });
+  const double build_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
   if (embree == nullptr) {
     if (error != nullptr) *error = why;
     return false;
@@ -399,6 +402,7 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
     stats->nan_samples = nan_samples.load();
     stats->hair_segments = embree->hair_segments();
     stats->body_primitives = embree->body_primitives();
+    stats->build_seconds = build_seconds;
     stats->seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
