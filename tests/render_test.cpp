@@ -70,6 +70,25 @@ class HReportingFibre final : public FibreScattering {
   }
 };
 
+// A broken model: infinite Eval, NaN sample weights. The tracer stops a path at a NaN weight
+// (its `> 0` guards are false for NaN); the infinite Eval makes infinite samples, which must be
+// counted and dropped.
+class NanFibre final : public FibreScattering {
+ public:
+  Rgb Eval(const Vec3&, const Vec3&, const FibreHit&) const override {
+    return Rgb::Constant(std::numeric_limits<double>::infinity());
+  }
+  ScatterSample Sample(const Vec3&, const FibreHit&, const std::array<double, 4>&) const override {
+    ScatterSample s;
+    s.wi = Vec3::UnitZ();
+    s.pdf = 1.0;
+    s.weight = Rgb::Constant(std::nan(""));
+    return s;
+  }
+  double Pdf(const Vec3&, const Vec3&, const FibreHit&) const override { return 1.0; }
+  Rgb Transmittance(const Vec3&, const FibreHit&) const override { return Rgb::Ones(); }
+};
+
 // Appends a polyline strand of constant width (m).
 void AddStrand(HairCurves* hair, const std::vector<Vec3>& points, double width) {
   hair->point_counts.push_back(static_cast<std::uint32_t>(points.size()));
@@ -587,6 +606,30 @@ TEST(RenderTest, LambertianSphereUnderKeyLight) {
   }
   EXPECT_GT(checked, 100);
   std::printf("Lambertian sphere: %d pixels, worst relative error %.2e\n", checked, worst);
+}
+
+// A fibre model that returns non-finite values: its samples are counted in stats and dropped, the image stays
+// finite (pixels seeing only the sky keep their value 1).
+TEST(RenderTest, NanSamplesAreCountedAndDropped) {
+  HairCurves hair;
+  AddStrand(&hair, Line(Vec3(-1.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), 3), 0.05);
+  RenderScene scene;
+  scene.hair = &hair;
+  scene.fibre = std::make_shared<NanFibre>();
+  scene.key.irradiance = Rgb::Zero();
+  scene.environment.top = scene.environment.bottom = Rgb::Ones();
+  RenderOptions options;
+  options.width = 16;
+  options.height = 16;
+  options.samples_per_pixel = 2;
+  Image image;
+  RenderStats stats;
+  std::string error;
+  ASSERT_TRUE(Render(scene, options, &image, &stats, &error)) << error;
+  EXPECT_GT(stats.nan_samples, 0);
+  EXPECT_LT(stats.nan_samples, stats.camera_rays);
+  for (const auto& p : image.pixels) EXPECT_TRUE(p.allFinite());
+  EXPECT_EQ(image.At(0, 0), Eigen::Vector3f::Ones());
 }
 
 // Bad options and scenes: false, one line naming the field, the image untouched.

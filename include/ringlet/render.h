@@ -75,9 +75,13 @@ enum class ShadowMode : std::uint8_t {
 
 /// What to render. The pointers must outlive the Render call.
 struct RenderScene {
-  const HairCurves* hair = nullptr;                  ///< may be null (body only)
+  /// May be null (body only). Strands are Embree round linear curves (cones with round
+  /// joints) of radius widths / 2; HairCurves::colors is not used (the fibre model decides).
+  const HairCurves* hair = nullptr;
   std::shared_ptr<const FibreScattering> fibre;      ///< required when hair is set
-  std::shared_ptr<const Body> body;                  ///< may be null (hair only)
+  /// May be null (hair only). Rendered as the exact union of its spheres and meshes: the
+  /// smooth-union blend of Body::Create (a contact-distance device) is not shown.
+  std::shared_ptr<const Body> body;
   Rgb body_albedo = Rgb(0.55, 0.42, 0.36);           ///< Lambertian body reflectance in [0, 1]
   /// Seed of the per-strand cross-section orientation (elliptic fibres), uniform in [0, pi).
   std::uint64_t orientation_seed = 1;
