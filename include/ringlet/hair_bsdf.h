@@ -24,7 +24,7 @@ enum class HairScatteringModel : std::uint8_t {
 /// The physical parameters of the fibre's optics (SI; angles in rad).
 struct HairOptics {
   HairScatteringModel model = HairScatteringModel::kChiang2016;
-  double eta = 1.55;                ///< refractive index of the fibre (Marschner 2003, Table 1)
+  double eta = 1.55;  ///< refractive index of the fibre (Marschner 2003, Table 1)
   /// Cross-section eccentricity e = sqrt(1 - b^2/a^2) in [0, 1): the mechanical one. Enters
   /// the TRT lobe through Marschner's eta*(phi_h) (see HairBsdf); e = 0 is the circular model
   /// bit for bit.
@@ -86,7 +86,8 @@ Rgb AbsorptionFromMelanin(double eumelanin, double pheomelanin);
 /// phi_o and the circular TRT exit (so N_TRT stays normalized and A_p unchanged: the furnace is
 /// still exactly 1). Marschner: eta* replaces eta in the whole TRT term (roots, Fresnel,
 /// absorption) with the actual phi_i.
-/// Transmittance: A_TT = (1 - f)^2 T of the Chiang model (exact for a smooth cylinder), both models.
+/// Transmittance: A_TT = (1 - f)^2 T of the Chiang model (exact for a smooth cylinder), both
+/// models.
 class HairBsdf final : public FibreScattering {
  public:
   /// optics must pass CheckHairOptics (asserted).

@@ -99,6 +99,8 @@ int ExitAngleRoots(int p, double c, double t, std::array<double, 3>* roots) {
 /// A_TRT for eta = 1.55, and needs no artistic constants.
 constexpr double kCausticSlope = 0.05;
 
+}  // namespace
+
 /// Marschner et al. 2003, eq. 8: N_p(phi) = sum over roots of A(p, h) / |2 d phi / d h|, with
 /// eta' and eta'' the Bravais indices for theta_d (appendix B), the cubic exit angle for the roots
 /// and the exact gamma_t for the attenuation:
@@ -140,6 +142,8 @@ Rgb MarschnerAzimuthal(int p, double phi, double eta, double sin_d, double cos_d
   }
   return sum;
 }
+
+namespace {
 
 /// Unit-area Gaussian g(beta; x) (1/rad).
 double Gaussian(double beta, double x) {
@@ -212,7 +216,7 @@ double MarschnerAxisRatio(double eccentricity) {
 }
 
 double EllipticEta(double eta, double eccentricity, double cos_2phi_h) {
-  if (eccentricity == 0.0) return eta;  // the circular model, bit for bit
+  if (eccentricity == 0.0) return eta;                          // the circular model, bit for bit
   const double a2 = 1.0 / (1.0 - eccentricity * eccentricity);  // a^2, a = major / minor
   const double eta1 = 2.0 * (eta - 1.0) * a2 - eta + 2.0;
   const double eta2 = 2.0 * (eta - 1.0) / a2 - eta + 2.0;
@@ -393,15 +397,15 @@ ScatterSample HairBsdf::Sample(const Vec3& wo, const FibreHit& hit,
   // azimuthal integral is exactly M_p: cos Theta = 1 + v log(u + (1 - u) e^{-2/v}).
   const double v = lobes.v[p];
   const double u1 = std::max(u[1], 1e-16);
-  const double cos_big = std::clamp(1.0 + v * std::log(u1 + (1.0 - u1) * std::exp(-2.0 / v)),
-                                    -1.0, 1.0);
+  const double cos_big =
+      std::clamp(1.0 + v * std::log(u1 + (1.0 - u1) * std::exp(-2.0 / v)), -1.0, 1.0);
   const double sin_big = std::sqrt(std::max(0.0, 1.0 - cos_big * cos_big));
   const double sin_i = std::clamp(
       -cos_big * lobes.sin_o[p] + sin_big * std::cos(2.0 * kPi * u[2]) * lobes.cos_o[p], -1.0, 1.0);
   const double cos_i = std::sqrt(std::max(0.0, 1.0 - sin_i * sin_i));
   // 3. phi_i from the trimmed logistic around Phi(p, h) (u[3]); the residual lobe is uniform.
-  const double dphi = p < 3 ? lobes.phi[p] + hair::SampleTrimmedLogistic(u[3], lobes.s)
-                            : 2.0 * kPi * u[3];
+  const double dphi =
+      p < 3 ? lobes.phi[p] + hair::SampleTrimmedLogistic(u[3], lobes.s) : 2.0 * kPi * u[3];
   const double phi_i = lobes.phi_o + dphi;
   ScatterSample sample;
   sample.wi = Vec3(sin_i, cos_i * std::cos(phi_i), cos_i * std::sin(phi_i));

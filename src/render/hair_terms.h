@@ -18,7 +18,8 @@ inline constexpr int kLobes = 4;
 ///   M = csch(1/v) / (2 v) exp(-sin(theta_i) sin(theta_o) / v) I0(cos(theta_i) cos(theta_o) / v),
 /// evaluated in log space so that small v (1/v up to ~1e4) neither overflows nor loses digits.
 /// Both directions point away from the fibre, so the peak is at theta_i = -theta_o. Symmetric in
-/// (theta_i, theta_o); integral over theta_i in [-pi/2, pi/2] of M cos(theta_i) = 1 for every theta_o.
+/// (theta_i, theta_o); integral over theta_i in [-pi/2, pi/2] of M cos(theta_i) = 1 for every
+/// theta_o.
 double LongitudinalDeon(double sin_i, double cos_i, double sin_o, double cos_o, double v);
 
 /// Logistic density with scale s > 0 (1/rad): e^{-|x|/s} / (s (1 + e^{-|x|/s})^2).
@@ -55,6 +56,14 @@ double MarschnerAxisRatio(double eccentricity);
 /// Returns eta itself (bit for bit) when e == 0.
 double EllipticEta(double eta, double eccentricity, double cos_2phi_h);
 
+/// Marschner et al. 2003, eq. 8: the azimuthal term N_p(phi) (1/rad, per channel) of path p for
+/// the relative azimuth phi = phi_i - phi_o, index eta (eta* for an elliptic TRT), the difference
+/// angle theta_d (sin, cos) and sigma_a: the sum over the roots gamma of the cubic exit-angle
+/// polynomial of A(p, h) / |2 d phi / d h| (see hair_bsdf.cpp). Integrates over phi to half the
+/// integral of A(p, h) over h in [-1, 1] (minus the caustic clamp's loss for p = 2).
+Rgb MarschnerAzimuthal(int p, double phi, double eta, double sin_d, double cos_d,
+                       const Rgb& sigma_a);
+
 /// Everything of the Chiang model that depends on wo and h only (not on wi).
 struct ChiangLobes {
   double sin_theta_o = 0.0, cos_theta_o = 1.0;  ///< longitudinal angle of wo
@@ -63,9 +72,9 @@ struct ChiangLobes {
   std::array<double, kLobes> v{};               ///< longitudinal variances (rad^2)
   /// tilted wo per lobe: theta_o - 2 alpha_p (sin, |cos|); the residual lobe is not tilted.
   std::array<double, kLobes> sin_o{}, cos_o{};
-  std::array<double, 3> phi{};                  ///< lobe centres Phi(p, h) = phi_i - phi_o (rad)
-  double s = 1.0;                               ///< logistic scale (rad)
-  std::array<double, kLobes> pdf{};             ///< lobe selection probabilities (sum 1)
+  std::array<double, 3> phi{};       ///< lobe centres Phi(p, h) = phi_i - phi_o (rad)
+  double s = 1.0;                    ///< logistic scale (rad)
+  std::array<double, kLobes> pdf{};  ///< lobe selection probabilities (sum 1)
 };
 
 /// Sets up the Chiang lobes for wo (unit, local frame) and the hit (see hair_bsdf.h for formulas).
