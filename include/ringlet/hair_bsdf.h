@@ -24,26 +24,73 @@ enum class HairScatteringModel : std::uint8_t {
 /// The physical parameters of the fibre's optics (SI; angles in rad).
 struct HairOptics {
   HairScatteringModel model = HairScatteringModel::kChiang2016;
-  double eta = 1.55;                ///< refractive index of the fibre (Marschner 2003, Table 1)
-  /// Cross-section eccentricity e = sqrt(1 - b^2/a^2) in [0, 1): the mechanical one.
+  double eta = 1.55;  ///< refractive index of the fibre (Marschner 2003, Table 1)
+  /// Cross-section eccentricity e = sqrt(1 - b^2/a^2) in [0, 1): the mechanical one. Enters
+  /// the TRT lobe through Marschner's eta*(phi_h) (see HairBsdf); e = 0 is the circular model
+  /// bit for bit.
   double eccentricity = 0.0;
-  /// Absorption coefficient of the cortex per unit fibre diameter (dimensionless, per channel):
-  /// see AbsorptionFromMelanin.
+  /// Absorption coefficient of the cortex times the fibre radius (dimensionless, per channel,
+  /// >= 0): the transmittance of one crossing is T = exp(-sigma_a 2 cos(gamma_t) / cos(theta_t)),
+  /// 2 cos(gamma_t) / cos(theta_t) being the chord in radii (Chiang et al. 2016, eq. 4; pbrt-v3).
+  /// Chiang's melanin fits (AbsorptionFromMelanin) are for this expression.
   Rgb sigma_a = Rgb(0.06, 0.10, 0.20);
-  double cuticle_tilt = 0.035;      ///< alpha: the scales' tilt (rad), ~2 degrees
-  double longitudinal_roughness = 0.3;  ///< beta_m in (0, 1] (Chiang 2016's v-mapped roughness)
-  double azimuthal_roughness = 0.3;     ///< beta_n in (0, 1]
+  /// alpha: the scales' tilt (rad), ~2 degrees, in [-0.2, 0.2]. Positive = free edges toward the
+  /// tip (x): lobe p peaks at theta_h = (theta_i + theta_o)/2 = alpha_p with alpha_R = -alpha,
+  /// alpha_TT = alpha/2, alpha_TRT = 3 alpha/2 (Marschner 2003, Table 1: R shifts to the root).
+  double cuticle_tilt = 0.035;
+  /// beta_m in (0, 1]: Chiang 2016's longitudinal roughness, variance v = (0.726 b + 0.812 b^2 +
+  /// 3.7 b^20)^2 (rad^2) for R, v/4 for TT, 4v for TRT and the residual; Marschner's Gaussian
+  /// widths are beta_R = sqrt(v), beta_TT = beta_R/2, beta_TRT = 2 beta_R (rad).
+  double longitudinal_roughness = 0.3;
+  /// beta_n in (0, 1]: Chiang 2016's azimuthal roughness, logistic scale s = sqrt(pi/8) (0.265 b
+  /// + 1.194 b^2 + 5.372 b^22) (rad). Marschner 2003 has no azimuthal roughness (only its
+  /// sampling density uses s).
+  double azimuthal_roughness = 0.3;
 };
 
-/// Absorption per unit diameter from melanin concentrations (Chiang et al. 2016, section 4.2,
-/// after d'Eon et al. 2011): sigma_a = eumelanin * (0.419, 0.697, 1.37)
+/// Absorption sigma_a (HairOptics::sigma_a's units) from melanin concentrations (Chiang et al.
+/// 2016, section 4.2, after d'Eon et al. 2011): sigma_a = eumelanin * (0.419, 0.697, 1.37)
 ///                                   + pheomelanin * (0.187, 0.4, 1.05).
 /// Black hair ~8 eumelanin, brown ~1.3, blonde ~0.3, red: pheomelanin ~1-3 (dimensionless).
 Rgb AbsorptionFromMelanin(double eumelanin, double pheomelanin);
 
-/// Marschner et al. 2003's fibre scattering, FibreScattering's conventions.
+/// Hair fibre scattering with FibreScattering's conventions (local frame x = tangent, phi_o =
+/// pi/2, h = sin(gamma_o); f includes every cosine, so the white furnace integral of f is <= 1).
+///
+/// kChiang2016: f = sum_{p=0..2} M_p(theta_i, theta_o - 2 alpha_p; v_p) A_p(theta_o, h)
+///   N_p(phi_i - phi_o - Phi(p, h); s) + M_3(theta_i, theta_o; v_3) A_3 / (2 pi), with d'Eon's
+///   M_p, A_p from the exact dielectric Fresnel at cos(theta_o) cos(gamma_o) and the absorption T,
+///   Phi(p, h) = 2 p gamma_t - 2 gamma_o + p pi, sin(gamma_t) = h / eta', eta' = Bravais' index,
+///   the trimmed logistic N_p and the residual A_3 = A_2 f T / (1 - f T). Energy conserving:
+///   the integral of f is sum_p A_p, exactly 1 for sigma_a = 0.
+/// kMarschner2003: f = cos(theta_i) / cos^2(theta_d) sum_{p=0..2} (1/2) g(beta_p; theta_h -
+///   alpha_p) N_p(phi), N_p from the roots of the cubic exit-angle polynomial (c = asin(1/eta'))
+///   with Bravais' Fresnel and absorption; the 1/2 is d theta_h / d theta_i. The TRT caustic
+///   is handled by capping 1/|d phi / d gamma| at 20 (instead of the paper's glint term); the
+///   model is the h-averaged one (hit.h unused) and is not energy conserving (furnace 0.78-0.90).
+/// Sample (both models): lobe p with probability proportional to the channel mean of A_p, then
+///   theta_i exactly from d'Eon's M_p, then phi_i from the logistic N_p (uniform for p = 3);
+///   Pdf is that mixture density, so Sample's weight is f / Pdf exactly.
+/// Elliptic fibres (Marschner 2003, section 4.3): the TRT lobe uses
+///   eta*(phi_h) = (eta1* + eta2*)/2 + cos(2 phi_h) (eta1* - eta2*)/2,
+///   eta1* = 2 (eta - 1) a^2 - eta + 2, eta2* = 2 (eta - 1) / a^2 - eta + 2,
+/// with phi_h the half angle of phi_i and phi_o measured from the major axis
+/// (FibreHit::major_axis_angle) and a = major / minor = 1 / sqrt(1 - e^2). Why this a: phi_h = 0
+/// means light travelling along the major axis, where the front face's radius of curvature b^2/a
+/// is smallest, so rays focus more strongly, as in a circle of higher index: eta* > eta needs
+/// a > 1 in eta1*. (A paraxial estimate, (eta* - 1)/eta* = (eta - 1)/eta (a/b)^2, gives the same
+/// sign and a similar slope, d eta*/d a^2 = eta (eta - 1) vs Marschner's 2 (eta - 1).) The
+/// paper's Table 1 range 0.85-1 is this ratio measured the other way round, for phi_h from the
+/// minor axis. eta* is clamped below at 1 + (eta - 1)/4 (the linearization would drop below 1
+/// for a^2 >= 2). Chiang: eta* moves only the TRT lobe centre Phi(2, h), with phi_h taken between
+/// phi_o and the circular TRT exit (so N_TRT stays normalized and A_p unchanged: the furnace is
+/// still exactly 1). Marschner: eta* replaces eta in the whole TRT term (roots, Fresnel,
+/// absorption) with the actual phi_i.
+/// Transmittance: A_TT = (1 - f)^2 T of the Chiang model (exact for a smooth cylinder), both
+/// models.
 class HairBsdf final : public FibreScattering {
  public:
+  /// optics must pass CheckHairOptics (asserted).
   explicit HairBsdf(const HairOptics& optics);
 
   Rgb Eval(const Vec3& wo, const Vec3& wi, const FibreHit& hit) const override;
@@ -58,7 +105,10 @@ class HairBsdf final : public FibreScattering {
   HairOptics optics_;
 };
 
-/// Checks optics: a one-line message naming the field and the expected range, or "" when valid.
+/// Checks optics: a one-line message naming the field and the expected range, or "" when valid:
+/// eta > 1 finite, eccentricity in [0, 1), sigma_a >= 0 finite, cuticle_tilt in [-0.2, 0.2] rad
+/// (measured tilts are 2-5 degrees; 0.2 rad = 11.5 degrees leaves room without letting the
+/// shifted lobes wrap over the poles for ordinary views), both roughnesses in (0, 1].
 std::string CheckHairOptics(const HairOptics& optics);
 
 }  // namespace ringlet
