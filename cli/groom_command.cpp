@@ -193,9 +193,10 @@ int RunGroom(const GroomArgs& args) {
                 FormatSeconds(s.wisp_seconds).c_str(), FormatSeconds(write_seconds).c_str(),
                 FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
     if (!operations.empty()) {
-      std::printf("the file's %zu styling operations were not applied (unstyled hair; use "
-                  "`ringlet style` to apply them)\n",
-                  operations.size());
+      std::printf(
+          "the file's %zu styling operations were not applied (unstyled hair; use "
+          "`ringlet style` to apply them)\n",
+          operations.size());
     }
     std::fflush(stdout);  // the summary before the warning, also when both go to one pipe
     if (!all_good) {

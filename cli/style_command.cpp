@@ -36,7 +36,6 @@
 namespace ringlet::cli {
 namespace {
 
-
 // One operation to apply, in order: from the hairstyle file's "operations" list, then from the
 // command line; `from` names its origin in messages ("operations[2]", "--cut-sphere").
 struct PlannedOperation {
@@ -130,7 +129,8 @@ int RunStyle(const StyleArgs& args) {
   std::vector<PlannedOperation> command_line = args.operations;
   for (PlannedOperation& planned : command_line) {
     StyleOperation& op = planned.op;
-    if (op.kind == StyleOperation::Kind::kCut && op.cut_region.kind != CutRegion::Kind::kMaxLength) {
+    if (op.kind == StyleOperation::Kind::kCut &&
+        op.cut_region.kind != CutRegion::Kind::kMaxLength) {
       op.cut.settle = args.settle;
     }
     if (op.kind == StyleOperation::Kind::kGrow) op.grow_steps = args.steps;
@@ -158,9 +158,10 @@ int RunStyle(const StyleArgs& args) {
   }
   plan.insert(plan.end(), command_line.begin(), command_line.end());
   if (plan.empty()) {
-    PrintError("expected at least one operation (--curl, --wet, --dry, --cut-z, --cut-plane, "
-               "--cut-sphere, --cut-length, --grow, or an \"operations\" list in " +
-               args.hairstyle_path + ")");
+    PrintError(
+        "expected at least one operation (--curl, --wet, --dry, --cut-z, --cut-plane, "
+        "--cut-sphere, --cut-length, --grow, or an \"operations\" list in " +
+        args.hairstyle_path + ")");
     return kExitBadInput;
   }
   int grow_steps = 0;
@@ -328,8 +329,9 @@ Command AddStyleCommand(CLI::App* parent) {
   const auto selection = [args](const std::string& flag) -> StrandSelection* {
     if (args->operations.empty() || args->operations.back().op.kind != Kind::kCurl) {
       if (args->bad_operation.empty()) {
-        args->bad_operation = flag + ": expected after a --curl (it chooses the masters that "
-                                     "--curl acts on)";
+        args->bad_operation = flag +
+                              ": expected after a --curl (it chooses the masters that "
+                              "--curl acts on)";
       }
       return nullptr;
     }
@@ -396,8 +398,7 @@ Command AddStyleCommand(CLI::App* parent) {
          "Wet the hair: E / 10, radius x 1.13 (Robbins), water weight, thinner hull layers")
       ->trigger_on_parse();
   app->add_flag_callback(
-         "--dry", [add] { add(Kind::kDry, "--dry"); },
-         "Dry the hair (the exact inverse of --wet)")
+         "--dry", [add] { add(Kind::kDry, "--dry"); }, "Dry the hair (the exact inverse of --wet)")
       ->trigger_on_parse();
   app->add_option_function<double>(
          "--cut-z",

@@ -176,13 +176,16 @@ TEST(StyleOperationsJson, BadListsNameTheField) {
       // cut
       {R"([{"wet": {}}, {"cut": {}}])", "operations[1].cut: missing the region"},
       {R"([{"cut": {"z": -0.1, "length": 0.2}}])", "operations[0].cut: expected exactly one of"},
-      {R"([{"cut": {"z": "low"}}])", "operations[0].cut.z: expected a finite number (m), got \"low\""},
+      {R"([{"cut": {"z": "low"}}])",
+       "operations[0].cut.z: expected a finite number (m), got \"low\""},
       {R"([{"cut": {"z": null}}])", "operations[0].cut.z: expected a finite number (m), got null"},
       {R"([{"cut": {"length": 0}}])", "operations[0].cut.length: expected a finite number > 0"},
       {R"([{"cut": {"length": 0.2, "settle": true}}])", "operations[0].cut.settle: only for"},
-      {R"([{"cut": {"z": -0.1, "settle": "yes"}}])", "operations[0].cut.settle: expected true or false"},
+      {R"([{"cut": {"z": -0.1, "settle": "yes"}}])",
+       "operations[0].cut.settle: expected true or false"},
       {R"([{"cut": {"z": -0.1, "tolerance": 0}}])", "operations[0].cut.tolerance: expected"},
-      {R"([{"cut": {"z": -0.1, "max_rounds": 0}}])", "operations[0].cut.max_rounds: expected an integer"},
+      {R"([{"cut": {"z": -0.1, "max_rounds": 0}}])",
+       "operations[0].cut.max_rounds: expected an integer"},
       {R"([{"cut": {"z": -0.1, "samples_per_segment": 2000}}])",
        "operations[0].cut.samples_per_segment: expected an integer between 1 and 1024"},
       {R"([{"cut": {"sphere": {"centre": [0, 0], "radius": 0.2}}}])",
@@ -201,7 +204,8 @@ TEST(StyleOperationsJson, BadListsNameTheField) {
       {R"([{"grow": {"step": -0.01}}])", "operations[0].grow.step: expected a finite number > 0"},
       {R"([{"grow": {"step": 0.01, "steps": 0}}])",
        "operations[0].grow.steps: expected an integer between 1 and 100000"},
-      {R"([{"grow": {"step": 0.01, "steps": 2.5}}])", "operations[0].grow.steps: expected an integer"},
+      {R"([{"grow": {"step": 0.01, "steps": 2.5}}])",
+       "operations[0].grow.steps: expected an integer"},
   };
   for (const Case& c : cases) {
     const json document = json::parse(WithOperations(c.operations));

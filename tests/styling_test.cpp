@@ -491,9 +491,10 @@ TEST(StylingTest, CuttingWetHairShortensByTheCutAndTipsRise) {
                     dry.masters.models[i].Length();
   }
   EXPECT_GE(cut, dry_crossing);
-  std::printf("wet cut at z = %.3f: %d strands (dry would cut %d), length vs dense crossing "
-              "%.2g m, lowest tip %.4f m\n",
-              z, cut, dry_crossing, worst_length, lowest);
+  std::printf(
+      "wet cut at z = %.3f: %d strands (dry would cut %d), length vs dense crossing "
+      "%.2g m, lowest tip %.4f m\n",
+      z, cut, dry_crossing, worst_length, lowest);
   // Drying the cut hair restores the dry parameters bit for bit; the lengths stay cut, and the
   // stiffer, lighter hair rises further (load parameter w L^3 / (E I) / 7.4).
   const double wet_mean_tip = MeanTipZ(state);

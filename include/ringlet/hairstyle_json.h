@@ -24,8 +24,8 @@ bool ParseHairstyle(const nlohmann::json& document, const std::string& base_dire
 /// is rejected by every command) but keeps only the unstyled hair. Absent = no operations. On
 /// failure leaves *operations untouched and writes one line naming the field
 /// ("operations[2].cut.z: expected a finite number (m), got \"low\"") into *error. Never throws.
-bool ParseStyleOperations(const nlohmann::json& document,
-                          std::vector<StyleOperation>* operations, std::string* error);
+bool ParseStyleOperations(const nlohmann::json& document, std::vector<StyleOperation>* operations,
+                          std::string* error);
 
 /// Reads and parses the hairstyle file at path (relative paths are relative to its directory).
 /// Syntax errors give line and column; every message starts with the path. Never throws.

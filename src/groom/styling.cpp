@@ -81,12 +81,12 @@ std::string Summary(const OperationReport& r) {
 bool CheckCurl(double radius, double pitch, std::string* why) {
   // R = +infinity (straight) is allowed; NaN fails the comparison.
   if (!(radius >= 0.0)) {
-    return Fail(why, "curl.radius: expected a number >= 0 (m; inf = straight), got " +
-                         Number(radius));
+    return Fail(why,
+                "curl.radius: expected a number >= 0 (m; inf = straight), got " + Number(radius));
   }
   if (!std::isfinite(pitch)) {
-    return Fail(why, "curl.pitch: expected a finite number (m; < 0 = left-handed), got " +
-                         Number(pitch));
+    return Fail(
+        why, "curl.pitch: expected a finite number (m; < 0 = left-handed), got " + Number(pitch));
   }
   if (radius == 0.0 && pitch == 0.0) {
     return Fail(why, "curl.radius, curl.pitch: R = p = 0 is not a helix");
@@ -99,7 +99,8 @@ bool CheckGrow(double step, int steps, std::string* why) {
     return Fail(why, "grow.step: expected a finite length > 0 (m), got " + Number(step));
   }
   if (steps < 1 || steps > 100000) {
-    return Fail(why, "grow.steps: expected an integer from 1 to 100000, got " + std::to_string(steps));
+    return Fail(why,
+                "grow.steps: expected an integer from 1 to 100000, got " + std::to_string(steps));
   }
   return true;
 }
@@ -605,8 +606,8 @@ bool StyleOperation::IsValid(std::string* why) const {
       if (!CheckCurl(curl_radius, curl_pitch, why)) return false;
       for (int i : selection.indices) {
         if (i < 0) {
-          return Fail(why, "selection.indices: expected master indices >= 0, got " +
-                               std::to_string(i));
+          return Fail(why,
+                      "selection.indices: expected master indices >= 0, got " + std::to_string(i));
         }
       }
       // The upper bound of the indices needs the hair: ApplyOperation checks it.

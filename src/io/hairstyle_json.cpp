@@ -7,8 +7,8 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
-#include <vector>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "io/json_reader.h"
 #include "ringlet/atomic_file.h"
@@ -17,12 +17,12 @@
 namespace ringlet {
 namespace {
 
-using nlohmann::json;
 using internal::Element;
 using internal::Member;
 using internal::NumberRule;
 using internal::Reader;
 using internal::Show;
+using nlohmann::json;
 
 constexpr NumberRule kPositiveLength{"a finite number > 0 (m)", [](double x) { return x > 0.0; }};
 constexpr NumberRule kNonNegativeLength{"a finite number >= 0 (m)",
@@ -372,8 +372,8 @@ bool ParseSelection(Reader& reader, const json& curl, const std::string& curl_pa
       const json& v = (*indices)[k];
       if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0.0 ||
           v.get<double>() > 1e9 || v.get<double>() != std::floor(v.get<double>())) {
-        return reader.Expected(Element(Member(path, "indices"), k), "a master index (an integer >= 0)",
-                               v);
+        return reader.Expected(Element(Member(path, "indices"), k),
+                               "a master index (an integer >= 0)", v);
       }
       selection->indices.push_back(static_cast<int>(v.get<double>()));
     }
@@ -384,7 +384,8 @@ bool ParseSelection(Reader& reader, const json& curl, const std::string& curl_pa
     return false;
   }
   if (!(polar(0) >= 0.0 && polar(0) <= polar(1) && polar(1) <= M_PI)) {
-    return reader.Expected(Member(path, "polar_angle"), "[min, max] with 0 <= min <= max <= pi (rad)",
+    return reader.Expected(Member(path, "polar_angle"),
+                           "[min, max] with 0 <= min <= max <= pi (rad)",
                            object->at("polar_angle"));
   }
   Eigen::Vector2d height(selection->min_height, selection->max_height);
@@ -449,9 +450,12 @@ bool ParseCutOperation(Reader& reader, const json& cut, const std::string& path,
   const char* kinds = "exactly one of \"z\", \"plane\", \"sphere\", \"length\"";
   int given = 0;
   for (const char* key : {"z", "plane", "sphere", "length"}) given += cut.contains(key) ? 1 : 0;
-  if (given == 0) return reader.Fail(path, std::string("missing the region (expected ") + kinds + ")");
-  if (given > 1) return reader.Fail(path, std::string("expected ") + kinds + ", got " +
-                                              std::to_string(given));
+  if (given == 0) {
+    return reader.Fail(path, std::string("missing the region (expected ") + kinds + ")");
+  }
+  if (given > 1) {
+    return reader.Fail(path, std::string("expected ") + kinds + ", got " + std::to_string(given));
+  }
   CutRegion& region = op->cut_region;
   if (cut.contains("z")) {
     region.kind = CutRegion::Kind::kAbovePlane;
@@ -463,11 +467,12 @@ bool ParseCutOperation(Reader& reader, const json& cut, const std::string& path,
     const std::string p = Member(path, "plane");
     region.kind = CutRegion::Kind::kAbovePlane;
     if (!reader.CheckFields(*plane, p, {"normal", "offset"}) ||
-        !reader.ReadVector<3>(*plane, p, "normal", "a direction, pointing into the kept side",
-                              true, &region.normal) ||
-        !reader.ReadNumber(*plane, p, "offset", {"a finite number (m; n . r >= offset is kept)",
-                                                 [](double) { return true; }},
-                           true, &region.offset)) {
+        !reader.ReadVector<3>(*plane, p, "normal", "a direction, pointing into the kept side", true,
+                              &region.normal) ||
+        !reader.ReadNumber(
+            *plane, p, "offset",
+            {"a finite number (m; n . r >= offset is kept)", [](double) { return true; }}, true,
+            &region.offset)) {
       return false;
     }
     if (!(region.normal.norm() > 0.0)) {
@@ -539,8 +544,9 @@ bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOper
         }
       }
       if (!known) {
-        return reader.Fail(op_path, "unknown operation (expected \"curl\", \"wet\", \"dry\", "
-                                    "\"cut\" or \"grow\")");
+        return reader.Fail(op_path,
+                           "unknown operation (expected \"curl\", \"wet\", \"dry\", "
+                           "\"cut\" or \"grow\")");
       }
       if (!value.is_object()) return reader.Expected(op_path, "an object", value);
       bool ok = true;
@@ -621,8 +627,8 @@ bool ParseHairstyle(const nlohmann::json& document, const std::string& base_dire
   return false;
 }
 
-bool ParseStyleOperations(const nlohmann::json& document,
-                          std::vector<StyleOperation>* operations, std::string* error) {
+bool ParseStyleOperations(const nlohmann::json& document, std::vector<StyleOperation>* operations,
+                          std::string* error) {
   Reader reader;
   try {
     if (!document.is_object()) {
