@@ -25,6 +25,7 @@
 #include "ringlet/hairstyle_json.h"
 #include "ringlet/obj_export.h"
 #include "ringlet/result_json.h"
+#include "ringlet/styling.h"
 #include "ringlet/usd_export.h"
 
 namespace ringlet::cli {
@@ -113,7 +114,10 @@ int RunGroom(const GroomArgs& args) {
     return kExitBadInput;
   }
   Hairstyle style;
-  if (!LoadHairstyle(args.hairstyle_path, &style, &error)) {
+  // A file's styling operations are checked but not applied: groom makes the unstyled hair
+  // (`ringlet style` applies them).
+  std::vector<StyleOperation> operations;
+  if (!LoadHairstyle(args.hairstyle_path, &style, &operations, &error)) {
     PrintError(error);
     return kExitBadInput;
   }
@@ -188,6 +192,12 @@ int RunGroom(const GroomArgs& args) {
                 s.max_penetration * 1e3, FormatSeconds(s.solve_seconds).c_str(),
                 FormatSeconds(s.wisp_seconds).c_str(), FormatSeconds(write_seconds).c_str(),
                 FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
+    if (!operations.empty()) {
+      std::printf(
+          "the file's %zu styling operations were not applied (unstyled hair; use "
+          "`ringlet style` to apply them)\n",
+          operations.size());
+    }
     std::fflush(stdout);  // the summary before the warning, also when both go to one pipe
     if (!all_good) {
       PrintWarning(Format("%d of %d masters did not reach a stable equilibrium (see masters.json)",

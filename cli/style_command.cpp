@@ -1,8 +1,11 @@
-// `ringlet style HAIRSTYLE.json [--curl R,P] [--wet] [--dry] [--cut-z Z [--settle]]
-// [--grow STEP --steps N] -o OUTDIR/`: virtual hairdressing (paper, section 3.2). Grooms the
-// hairstyle, applies the operations in command-line order (each re-solves the masters from the
-// previous equilibrium), then writes the files of `ringlet groom` plus, for grow, one
-// step_NNN.hair per step and grow.usda with time samples (docs/styling.md).
+// `ringlet style HAIRSTYLE.json [--curl R,P [--curl-polar MIN,MAX] [--curl-height MIN,MAX]
+// [--curl-masters I,J,...]] [--wet] [--dry] [--cut-z Z] [--cut-plane NX,NY,NZ,D]
+// [--cut-sphere X,Y,Z,R] [--cut-length L] [--settle] [--grow STEP --steps N] -o OUTDIR/`:
+// virtual hairdressing (paper, section 3.2). Grooms the hairstyle, applies the file's
+// "operations" list and then the command line's operations in order (each re-solves the masters
+// from the previous equilibrium; ApplyOperation, the same code path for both), then writes the
+// files of `ringlet groom` plus, for grow, one step_NNN.hair per step and grow.usda with time
+// samples (docs/styling.md).
 //
 // Exit codes: 0 every master converged, 2 some did not (files are still written), 1 bad usage
 // or input (nothing is written).
@@ -33,18 +36,17 @@
 namespace ringlet::cli {
 namespace {
 
-
-// One operation of the command line, in order.
-struct StyleOperation {
-  enum class Kind { kCurl, kWet, kDry, kCut, kGrow } kind;
-  double a = 0.0;  // curl radius, cut z, grow step
-  double b = 0.0;  // curl pitch
+// One operation to apply, in order: from the hairstyle file's "operations" list, then from the
+// command line; `from` names its origin in messages ("operations[2]", "--cut-sphere").
+struct PlannedOperation {
+  StyleOperation op;
+  std::string from;
 };
 
 struct StyleArgs {
   std::string hairstyle_path;
   std::string output_dir;
-  std::vector<StyleOperation> operations;
+  std::vector<PlannedOperation> operations;  // the command line's, in order
   std::string bad_operation;  // first unparsable operation argument, reported after parsing
   bool settle = false;
   int steps = 10;
@@ -54,19 +56,33 @@ struct StyleArgs {
   double hair_units_per_metre = 1.0;
 };
 
-// "R,P" -> (R, P) in metres; "inf" is allowed for R (straighten).
-bool ParseCurl(const std::string& text, double* radius, double* pitch) {
-  const size_t comma = text.find(',');
-  if (comma == std::string::npos) return false;
-  try {
-    size_t used = 0;
-    *radius = std::stod(text.substr(0, comma), &used);
-    if (used != comma) return false;
-    const std::string rest = text.substr(comma + 1);
-    *pitch = std::stod(rest, &used);
-    return used == rest.size();
-  } catch (const std::exception&) {
-    return false;
+// "A,B,C" -> numbers (std::stod: "inf" and "nan" are read, and rejected later by the checks).
+// count = 0 accepts any positive number of values.
+bool ParseNumbers(const std::string& text, size_t count, std::vector<double>* values) {
+  values->clear();
+  size_t begin = 0;
+  while (true) {
+    const size_t comma = text.find(',', begin);
+    const std::string item =
+        text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin);
+    try {
+      size_t used = 0;
+      values->push_back(std::stod(item, &used));
+      if (used != item.size()) return false;
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (comma == std::string::npos) break;
+    begin = comma + 1;
+  }
+  return count == 0 ? !values->empty() : values->size() == count;
+}
+
+// Records the first bad argument: "FLAG: expected WHAT, got "TEXT"".
+void BadArgument(StyleArgs* args, const std::string& flag, const std::string& expected,
+                 const std::string& text) {
+  if (args->bad_operation.empty()) {
+    args->bad_operation = flag + ": expected " + expected + ", got \"" + text + "\"";
   }
 }
 
@@ -79,7 +95,7 @@ std::vector<std::string> OutputNames(int grow_steps) {
 }
 
 std::string MastersJson(const StyledHair& state, const std::vector<OperationReport>& reports,
-                        double seconds) {
+                        const std::vector<PlannedOperation>& plan, double seconds) {
   std::vector<StrandResult> results;
   results.reserve(state.solutions.size());
   for (size_t i = 0; i < state.solutions.size(); ++i) {
@@ -87,8 +103,10 @@ std::string MastersJson(const StyledHair& state, const std::vector<OperationRepo
   }
   nlohmann::ordered_json document = ResultToJson(results, seconds);
   nlohmann::ordered_json ops = nlohmann::ordered_json::array();
-  for (const OperationReport& r : reports) {
+  for (size_t k = 0; k < reports.size(); ++k) {
+    const OperationReport& r = reports[k];
     ops.push_back({{"name", r.name},
+                   {"from", plan[k].from},
                    {"strands", r.strands},
                    {"iterations", r.iterations},
                    {"rounds", r.rounds},
@@ -106,18 +124,20 @@ int RunStyle(const StyleArgs& args) {
     PrintError(args.bad_operation);
     return kExitBadInput;
   }
-  if (args.operations.empty()) {
-    PrintError("expected at least one operation (--curl, --wet, --dry, --cut-z, --grow)");
-    return kExitBadInput;
-  }
-  int grow_steps = 0;
-  for (const StyleOperation& op : args.operations) {
-    if (op.kind == StyleOperation::Kind::kGrow) grow_steps += args.steps;
-  }
-  const std::vector<std::string> names = OutputNames(grow_steps);
-  if (!CheckOutputDirectory(args.output_dir, names, args.force, &error)) {
-    PrintError(error);
-    return kExitBadInput;
+  // The command line's operations: --settle and --steps apply to each, then the parameters are
+  // checked before any work (the master index bound waits for the groom).
+  std::vector<PlannedOperation> command_line = args.operations;
+  for (PlannedOperation& planned : command_line) {
+    StyleOperation& op = planned.op;
+    if (op.kind == StyleOperation::Kind::kCut &&
+        op.cut_region.kind != CutRegion::Kind::kMaxLength) {
+      op.cut.settle = args.settle;
+    }
+    if (op.kind == StyleOperation::Kind::kGrow) op.grow_steps = args.steps;
+    if (!op.IsValid(&error)) {
+      PrintError(planned.from + ": " + error);
+      return kExitBadInput;
+    }
   }
   HairFileOptions hair_options;
   hair_options.units_per_metre = args.hair_units_per_metre;
@@ -126,7 +146,30 @@ int RunStyle(const StyleArgs& args) {
     return kExitBadInput;
   }
   Hairstyle style;
-  if (!LoadHairstyle(args.hairstyle_path, &style, &error)) {
+  std::vector<StyleOperation> from_file;
+  if (!LoadHairstyle(args.hairstyle_path, &style, &from_file, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  // The file's operations first, then the command line's (docs/styling.md).
+  std::vector<PlannedOperation> plan;
+  for (size_t k = 0; k < from_file.size(); ++k) {
+    plan.push_back({from_file[k], Format("operations[%d]", static_cast<int>(k))});
+  }
+  plan.insert(plan.end(), command_line.begin(), command_line.end());
+  if (plan.empty()) {
+    PrintError(
+        "expected at least one operation (--curl, --wet, --dry, --cut-z, --cut-plane, "
+        "--cut-sphere, --cut-length, --grow, or an \"operations\" list in " +
+        args.hairstyle_path + ")");
+    return kExitBadInput;
+  }
+  int grow_steps = 0;
+  for (const PlannedOperation& planned : plan) {
+    if (planned.op.kind == StyleOperation::Kind::kGrow) grow_steps += planned.op.grow_steps;
+  }
+  const std::vector<std::string> names = OutputNames(grow_steps);
+  if (!CheckOutputDirectory(args.output_dir, names, args.force, &error)) {
     PrintError(error);
     return kExitBadInput;
   }
@@ -151,42 +194,29 @@ int RunStyle(const StyleArgs& args) {
     return kExitBadInput;
   }
   groom = Groom{};
+  // The master indices of the selections, now that the masters are known: before any operation.
+  for (const PlannedOperation& planned : plan) {
+    if (planned.op.kind == StyleOperation::Kind::kCurl &&
+        !planned.op.selection.IsValid(static_cast<int>(state.masters.models.size()), &error)) {
+      PrintError(planned.from + ": " + error);
+      return kExitBadInput;
+    }
+  }
 
-  // The operations, in command-line order; every one re-solves from the previous equilibrium.
+  // The operations, in order; every one re-solves from the previous equilibrium.
   std::vector<OperationReport> reports;
   std::vector<HairCurves> grow_frames;
-  for (const StyleOperation& op : args.operations) {
+  for (const PlannedOperation& planned : plan) {
     OperationReport report;
-    bool ok = true;
-    switch (op.kind) {
-      case StyleOperation::Kind::kCurl:
-        ok = Curl(&state, op.a, op.b, StrandSelection{}, batch, &report, &error);
-        break;
-      case StyleOperation::Kind::kWet:
-        ok = Wet(&state, WetOptions{}, batch, &report, &error);
-        break;
-      case StyleOperation::Kind::kDry:
-        ok = Dry(&state, batch, &report, &error);
-        break;
-      case StyleOperation::Kind::kCut: {
-        CutOptions options;
-        options.settle = args.settle;
-        ok = CutBelow(&state, op.a, options, batch, &report, &error);
-        break;
-      }
-      case StyleOperation::Kind::kGrow: {
-        std::vector<StyledHair> sequence;
-        ok = Grow(&state, op.a, args.steps, batch, &sequence, &report, &error);
-        for (size_t t = 0; ok && t < sequence.size(); ++t) {
-          HairCurves frame;
-          ok = StyledStrands(sequence[t], &frame, &error);
-          grow_frames.push_back(std::move(frame));
-        }
-        break;
-      }
+    std::vector<StyledHair> sequence;
+    bool ok = ApplyOperation(&state, planned.op, batch, &sequence, &report, &error);
+    for (size_t t = 0; ok && t < sequence.size(); ++t) {
+      HairCurves frame;
+      ok = StyledStrands(sequence[t], &frame, &error);
+      grow_frames.push_back(std::move(frame));
     }
     if (!ok) {
-      PrintError(error);
+      PrintError(planned.from + ": " + error);
       return kExitBadInput;
     }
     if (!args.quiet) {
@@ -221,7 +251,7 @@ int RunStyle(const StyleArgs& args) {
   });
   ok = ok && encode("strands.obj", [&](std::string* t) { return EncodeObj(strands, t, &error); });
   ok = ok && encode("masters.json", [&](std::string* t) {
-    *t = MastersJson(state, reports, SecondsSince(start));
+    *t = MastersJson(state, reports, plan, SecondsSince(start));
     return true;
   });
   for (size_t k = 0; ok && k < grow_frames.size(); ++k) {
@@ -260,8 +290,9 @@ Command AddStyleCommand(CLI::App* parent) {
   auto args = std::make_shared<StyleArgs>();
   CLI::App* app = parent->add_subcommand(
       "style",
-      "Virtual hairdressing: groom a hairstyle, then curl, wet, dry, cut and grow it, in "
-      "command-line order, each operation re-solving from the previous equilibrium; writes the "
+      "Virtual hairdressing: groom a hairstyle, then curl, wet, dry, cut and grow it: first the "
+      "file's \"operations\" list, then the options in command-line order, each operation "
+      "re-solving from the previous equilibrium; writes the "
       "files of `ringlet groom` (plus step_NNN.hair and grow.usda for --grow). Exit code 0 when "
       "every master converged, 2 when some did not, 1 on bad usage or input.");
   app->add_option("hairstyle", args->hairstyle_path,
@@ -271,36 +302,169 @@ Command AddStyleCommand(CLI::App* parent) {
       ->required();
   using Kind = StyleOperation::Kind;
   // Operations are recorded as they are parsed (trigger_on_parse), so their order is kept.
+  const auto add = [args](Kind kind, const std::string& from) -> StyleOperation& {
+    StyleOperation op;
+    op.kind = kind;
+    args->operations.push_back({op, from});
+    return args->operations.back().op;
+  };
   app->add_option_function<std::string>(
          "--curl",
-         [args](const std::string& text) {
-           StyleOperation op{Kind::kCurl};
-           if (!ParseCurl(text, &op.a, &op.b) && args->bad_operation.empty()) {
-             args->bad_operation = "--curl: expected RADIUS,PITCH in metres (e.g. 0.01,0.02), got \"" +
-                                   text + "\"";
+         [args, add](const std::string& text) {
+           StyleOperation& op = add(Kind::kCurl, "--curl");
+           std::vector<double> v;
+           if (!ParseNumbers(text, 2, &v)) {
+             BadArgument(args.get(), "--curl", "RADIUS,PITCH in metres (e.g. 0.01,0.02)", text);
+             return;
            }
-           args->operations.push_back(op);
+           op.curl_radius = v[0];
+           op.curl_pitch = v[1];
          },
-         "Set the natural curl: helix radius and pitch (m), e.g. 0.01,0.02")
+         "Set the natural curl: helix radius and pitch (m), e.g. 0.01,0.02 (radius inf "
+         "straightens); on every master, or on those chosen by --curl-polar, --curl-height or "
+         "--curl-masters after it")
+      ->trigger_on_parse()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  // The selection options refine the --curl just before them.
+  const auto selection = [args](const std::string& flag) -> StrandSelection* {
+    if (args->operations.empty() || args->operations.back().op.kind != Kind::kCurl) {
+      if (args->bad_operation.empty()) {
+        args->bad_operation = flag +
+                              ": expected after a --curl (it chooses the masters that "
+                              "--curl acts on)";
+      }
+      return nullptr;
+    }
+    args->operations.back().from += " " + flag;
+    return &args->operations.back().op.selection;
+  };
+  app->add_option_function<std::string>(
+         "--curl-polar",
+         [args, selection](const std::string& text) {
+           StrandSelection* s = selection("--curl-polar");
+           std::vector<double> v;
+           if (!s) return;
+           if (!ParseNumbers(text, 2, &v)) {
+             BadArgument(args.get(), "--curl-polar", "MIN,MAX polar angles of the roots (rad)",
+                         text);
+             return;
+           }
+           s->indices.clear();
+           s->min_polar_angle = v[0];
+           s->max_polar_angle = v[1];
+         },
+         "After --curl: curl only masters whose root polar angle from the head's up axis lies "
+         "in [MIN,MAX] (rad), e.g. 0,0.8 (the crown)")
+      ->trigger_on_parse()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app->add_option_function<std::string>(
+         "--curl-height",
+         [args, selection](const std::string& text) {
+           StrandSelection* s = selection("--curl-height");
+           std::vector<double> v;
+           if (!s) return;
+           if (!ParseNumbers(text, 2, &v)) {
+             BadArgument(args.get(), "--curl-height",
+                         "MIN,MAX root heights above the head centre (m)", text);
+             return;
+           }
+           s->indices.clear();
+           s->min_height = v[0];
+           s->max_height = v[1];
+         },
+         "After --curl: curl only masters whose root lies MIN to MAX (m) above the head centre")
+      ->trigger_on_parse()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app->add_option_function<std::string>(
+         "--curl-masters",
+         [args, selection](const std::string& text) {
+           StrandSelection* s = selection("--curl-masters");
+           std::vector<double> v;
+           if (!s) return;
+           bool ok = ParseNumbers(text, 0, &v);
+           for (double x : v) ok = ok && x >= 0.0 && x <= 1e9 && x == std::floor(x);
+           if (!ok) {
+             BadArgument(args.get(), "--curl-masters", "master indices I,J,... (integers >= 0)",
+                         text);
+             return;
+           }
+           s->indices.assign(v.begin(), v.end());
+         },
+         "After --curl: curl only these masters (indices as in masters.json), e.g. 0,5,7")
       ->trigger_on_parse()
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app->add_flag_callback(
-         "--wet", [args] { args->operations.push_back({Kind::kWet}); },
+         "--wet", [add] { add(Kind::kWet, "--wet"); },
          "Wet the hair: E / 10, radius x 1.13 (Robbins), water weight, thinner hull layers")
       ->trigger_on_parse();
   app->add_flag_callback(
-         "--dry", [args] { args->operations.push_back({Kind::kDry}); },
-         "Dry the hair (the exact inverse of --wet)")
+         "--dry", [add] { add(Kind::kDry, "--dry"); }, "Dry the hair (the exact inverse of --wet)")
       ->trigger_on_parse();
   app->add_option_function<double>(
-         "--cut-z", [args](double z) { args->operations.push_back({Kind::kCut, z}); },
+         "--cut-z",
+         [add](double z) {
+           StyleOperation& op = add(Kind::kCut, "--cut-z");
+           op.cut_region.kind = CutRegion::Kind::kAbovePlane;
+           op.cut_region.normal = Vec3::UnitZ();
+           op.cut_region.offset = z;
+         },
          "Cut what hangs below this height (m)")
       ->trigger_on_parse()
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-  app->add_flag("--settle", args->settle,
-                "With --cut-z: adjust the cuts until the risen tips settle on the plane");
+  app->add_option_function<std::string>(
+         "--cut-plane",
+         [args, add](const std::string& text) {
+           StyleOperation& op = add(Kind::kCut, "--cut-plane");
+           std::vector<double> v;
+           if (!ParseNumbers(text, 4, &v)) {
+             BadArgument(args.get(), "--cut-plane",
+                         "NX,NY,NZ,D: keep the side n . r >= D (n normalized, D in m)", text);
+             return;
+           }
+           op.cut_region.kind = CutRegion::Kind::kAbovePlane;
+           op.cut_region.normal = Vec3(v[0], v[1], v[2]);
+           op.cut_region.offset = v[3];
+         },
+         "Cut what lies beyond a plane: keep n . r >= D (n = NX,NY,NZ normalized, D in m); "
+         "e.g. 0,-1,0,-0.05 cuts a fringe in front of y = 0.05")
+      ->trigger_on_parse()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app->add_option_function<std::string>(
+         "--cut-sphere",
+         [args, add](const std::string& text) {
+           StyleOperation& op = add(Kind::kCut, "--cut-sphere");
+           std::vector<double> v;
+           if (!ParseNumbers(text, 4, &v)) {
+             BadArgument(args.get(), "--cut-sphere",
+                         "X,Y,Z,R: the kept sphere's centre and radius (m)", text);
+             return;
+           }
+           op.cut_region.kind = CutRegion::Kind::kInsideSphere;
+           op.cut_region.centre = Vec3(v[0], v[1], v[2]);
+           op.cut_region.radius = v[3];
+         },
+         "Cut what lies outside the sphere of centre X,Y,Z and radius R (m): a bob")
+      ->trigger_on_parse()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app->add_option_function<double>(
-         "--grow", [args](double step) { args->operations.push_back({Kind::kGrow, step}); },
+         "--cut-length",
+         [add](double length) {
+           StyleOperation& op = add(Kind::kCut, "--cut-length");
+           op.cut_region.kind = CutRegion::Kind::kMaxLength;
+           op.cut_region.length = length;
+         },
+         "Cut every master to at most this length (m)")
+      ->trigger_on_parse()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app->add_flag("--settle", args->settle,
+                "With --cut-z, --cut-plane, --cut-sphere: adjust the cuts until the risen tips "
+                "settle on the boundary");
+  app->add_option_function<double>(
+         "--grow",
+         [add](double step) {
+           StyleOperation& op = add(Kind::kGrow, "--grow");
+           op.grow_step = step;
+         },
          "Grow every master by STEP (m) per step, --steps times")
       ->trigger_on_parse()
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);

@@ -321,7 +321,8 @@ def main():
     panels = [(g, v, label) for v, lim in zip(views, limits)
               for g, label in zip(grooms, labels)]
     width = (limits[0][0][1] - limits[0][0][0]) / (limits[0][1][1] - limits[0][1][0])
-    figure = plt.figure(figsize=(len(panels) * 3.4 * width + 0.2, 3.4 + 0.5))
+    # At least 3.3 inches per panel, so that the two title lines of a narrow view stay apart.
+    figure = plt.figure(figsize=(len(panels) * max(3.4 * width, 3.3) + 0.2, 3.4 + 0.5))
     names = {"front": "front (from +y)", "side": "side (from +x)", "back": "back (from -y)",
              "slice": "mid-plane slice"}
     for k, ((points, counts, stats, layers), view, label) in enumerate(panels):

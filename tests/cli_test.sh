@@ -369,6 +369,109 @@ expect_rc "style without operation" 1
 expect_one_error_line "style without operation" "operation"
 expect_empty_dir "style bad input" "$work/style_bad"
 
+# New cut and selection flags, in command-line order.
+run style "$work/style.json" --curl 0.01,0.03 --curl-polar 0,0.8 --cut-sphere 0,0,0,0.25 \
+  --settle --cut-length 0.2 --cut-plane 0,-1,0,0.05 -o "$work/style_flags"
+expect_rc "style new flags" 0
+if "$PYTHON" -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+ops = d["style"]["operations"]
+names = [(o["name"], o["from"]) for o in ops]
+want = [("curl", "--curl --curl-polar"), ("cut", "--cut-sphere"), ("cut", "--cut-length"),
+        ("cut", "--cut-plane")]
+# The curl acted on the crown only (some, not all, of the 12 masters); no master is longer than
+# the length cut (exact: a length edit).
+lengths = [sum(s["segment_lengths"]) for s in d["strands"]]
+ok = names == want and 0 < ops[0]["strands"] < 12 and max(lengths) <= 0.2 + 1e-12
+sys.exit(0 if ok else 1)
+' "$work/style_flags/masters.json"; then ok; else
+  fail "style new flags: operations, origins or lengths wrong in masters.json"
+fi
+# A hairstyle file with an "operations" list: applied first, then the command line's.
+"$PYTHON" -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["operations"] = [{"wet": {}}, {"cut": {"z": -0.15, "settle": True}},
+                   {"grow": {"step": 0.01, "steps": 2}}]
+json.dump(d, open(sys.argv[2], "w"))
+' "$work/style.json" "$work/style_ops.json"
+run style "$work/style_ops.json" --dry --grow 0.005 --steps 1 -o "$work/style_file"
+expect_rc "style file operations" 0
+for f in strands.hair strands.usda strands.obj masters.json step_001.hair step_002.hair \
+  step_003.hair grow.usda; do
+  if [ -s "$work/style_file/$f" ]; then ok; else fail "style file operations: $f not written"; fi
+done
+if "$PYTHON" -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+names = [(o["name"], o["from"]) for o in d["style"]["operations"]]
+want = [("wet", "operations[0]"), ("cut", "operations[1]"), ("grow", "operations[2]"),
+        ("dry", "--dry"), ("grow", "--grow")]
+sys.exit(0 if names == want and d["style"]["wet"] is False else 1)
+' "$work/style_file/masters.json"; then ok; else
+  fail "style file operations: not applied file first, then command line"
+fi
+# The file's list alone is enough; groom reads the same file and says it did not apply it.
+run style "$work/style_ops.json" -o "$work/style_file_only"
+expect_rc "style file operations only" 0
+run groom "$work/style_ops.json" -o "$work/groom_ops"
+expect_rc "groom file with operations" 0
+if grep -q "3 styling operations were not applied" "$work/stdout"; then ok; else
+  fail "groom file with operations: no note in the summary: $(cat "$work/stdout")"
+fi
+# Bad values of the new flags and of the file's operations: one line naming the flag or the
+# field, exit code 1, nothing written.
+style_bad() {  # style_bad WHAT SUBSTRING FILE ARGS...
+  local what=$1 substring=$2 file=$3
+  shift 3
+  run style "$file" "$@" -o "$work/style_bad/x"
+  expect_rc "$what" 1
+  expect_one_error_line "$what" "$substring"
+}
+style_bad "style --cut-sphere 3 values" "--cut-sphere: expected X,Y,Z,R" "$work/style.json" \
+  --cut-sphere 0,0,0
+style_bad "style --cut-sphere r < 0" "--cut-sphere: cut.radius" "$work/style.json" \
+  --cut-sphere 0,0,0,-0.1
+style_bad "style --cut-sphere nan" "--cut-sphere: cut.centre" "$work/style.json" \
+  --cut-sphere nan,0,0,0.2
+style_bad "style --cut-length 0" "--cut-length: cut.length" "$work/style.json" --cut-length 0
+style_bad "style --cut-length text" "--cut-length" "$work/style.json" --cut-length short
+style_bad "style --cut-plane zero normal" "--cut-plane: cut.normal" "$work/style.json" \
+  --cut-plane 0,0,0,0.1
+style_bad "style --cut-plane 3 values" "--cut-plane: expected NX,NY,NZ,D" "$work/style.json" \
+  --cut-plane 0,0,1
+style_bad "style --curl-polar first" "--curl-polar: expected after a --curl" \
+  "$work/style.json" --curl-polar 0,1 --curl 0.01,0.02
+style_bad "style --curl-polar reversed" "selection.polar_angle" "$work/style.json" \
+  --curl 0.01,0.02 --curl-polar 1,0.5
+style_bad "style --curl-height text" "--curl-height: expected MIN,MAX" "$work/style.json" \
+  --curl 0.01,0.02 --curl-height low,high
+style_bad "style --curl-masters negative" "--curl-masters: expected master indices" \
+  "$work/style.json" --curl 0.01,0.02 --curl-masters 1,-2
+style_bad "style --curl-masters out of range" "selection.indices: 12 is not a master index" \
+  "$work/style.json" --curl 0.01,0.02 --curl-masters 0,12
+"$PYTHON" -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["operations"] = [{"wet": {}}, {"cut": {"z": "low"}}]
+json.dump(d, open(sys.argv[2], "w"))
+' "$work/style.json" "$work/style_bad_ops.json"
+style_bad "style bad file operation" \
+  'operations[1].cut.z: expected a finite number (m), got "low"' "$work/style_bad_ops.json"
+run groom "$work/style_bad_ops.json" -o "$work/style_bad/x"
+expect_rc "groom bad file operation" 1
+expect_one_error_line "groom bad file operation" "operations[1].cut.z"
+"$PYTHON" -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["operations"] = [{"dry": {}}]
+json.dump(d, open(sys.argv[2], "w"))
+' "$work/style.json" "$work/style_dry_ops.json"
+style_bad "style file dry on dry hair" "operations[0]: dry: the hair is not wet" \
+  "$work/style_dry_ops.json"
+expect_empty_dir "style bad new flags" "$work/style_bad"
+
 # --------------------------------------------------------------------------------------------
 if [ "$failures" -ne 0 ]; then
   echo "cli_test: $failures of $((checks + failures)) checks FAILED" >&2

@@ -423,5 +423,277 @@ TEST(StylingTest, BadParametersAreRejectedByName) {
   rejects(Wet(&state, {}, {}, nullptr, &error), "already wet");
 }
 
+// ---------------------------------------------------------------------------------------------
+// Operations on wet hair.
+
+// The first arc length where a strand's centreline goes below z, found independently of
+// CutArcLength: the first sample below z on a dense polyline (n samples per segment), linearly
+// interpolated (error ~ spacing^2 curvature / 8, below 1e-5 m for 400 samples of 2.5 cm).
+double DenseCrossing(const StrandModel& model, const VecX& q, double z, int n = 400) {
+  const FramedCentreline dense = SampleFramedCentreline(model, q, n);
+  for (int j = 1; j < dense.NumPoints(); ++j) {
+    if (dense.points[j].z() < z) {
+      const double z0 = dense.points[j - 1].z(), z1 = dense.points[j].z();
+      const double t = (z0 - z) / (z0 - z1);
+      return dense.arc_lengths[j - 1] + t * (dense.arc_lengths[j] - dense.arc_lengths[j - 1]);
+    }
+  }
+  return model.Length();
+}
+
+// The parameters Dry must restore, compared bit for bit (restored, not recomputed).
+void ExpectSameDryParameters(const StrandModel& a, const StrandModel& b) {
+  EXPECT_EQ(a.section.a, b.section.a);
+  EXPECT_EQ(a.section.b, b.section.b);
+  EXPECT_EQ(a.material.young_modulus, b.material.young_modulus);
+  EXPECT_EQ(a.material.poisson_ratio, b.material.poisson_ratio);
+  EXPECT_EQ(a.material.density, b.material.density);
+  EXPECT_EQ(a.contact.clearance, b.contact.clearance);
+}
+
+TEST(StylingTest, CuttingWetHairShortensByTheCutAndTipsRise) {
+  StyledHair state = Groomed(SmallStyle("asian", "straight", 20, 0.3));
+  const StyledHair dry = state;
+  std::string error;
+  ASSERT_TRUE(Wet(&state, {}, {}, nullptr, &error)) << error;
+  const StyledHair wet = state;
+  const double z = -0.12;
+  OperationReport report;
+  ASSERT_TRUE(CutBelow(&state, z, {}, {}, &report, &error)) << error;
+  std::printf("wet %s\n", report.message.c_str());
+  ASSERT_GT(report.strands, 3);  // not vacuous: several wet strands hung below z
+  EXPECT_TRUE(state.wet);
+  int cut = 0;
+  double lowest = std::numeric_limits<double>::infinity(), worst_length = 0.0;
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    const StrandModel& before = wet.masters.models[i];
+    const StrandModel& after = state.masters.models[i];
+    // Still wet: E = E_dry / 10 exactly as before the cut (Robbins' factor, applied by Wet).
+    EXPECT_EQ(after.material.young_modulus, before.material.young_modulus);
+    EXPECT_EQ(after.section.a, before.section.a);
+    if (after.Length() == before.Length()) continue;
+    ++cut;
+    // l_new = l_prev - l_cut, l_cut = what hung below z at the *wet* equilibrium: the new length
+    // is the independent dense-polyline crossing of the wet centreline.
+    const double s_dense = DenseCrossing(before, wet.solutions[i].curvatures, z);
+    worst_length = std::max(worst_length, std::abs(after.Length() - s_dense));
+    EXPECT_NEAR(after.Length(), s_dense, 1e-5) << "master " << i;
+    // The lighter strand rises: its tip ends above the plane.
+    const double tip_z = Tip(state, static_cast<int>(i)).z();
+    EXPECT_GT(tip_z, z) << "master " << i;
+    lowest = std::min(lowest, tip_z);
+  }
+  EXPECT_EQ(cut, report.strands);
+  // Wet hair hangs lower than dry, so the wet cut removes more: at least as many strands cross.
+  int dry_crossing = 0;
+  for (size_t i = 0; i < dry.masters.models.size(); ++i) {
+    dry_crossing += DenseCrossing(dry.masters.models[i], dry.solutions[i].curvatures, z) <
+                    dry.masters.models[i].Length();
+  }
+  EXPECT_GE(cut, dry_crossing);
+  std::printf(
+      "wet cut at z = %.3f: %d strands (dry would cut %d), length vs dense crossing "
+      "%.2g m, lowest tip %.4f m\n",
+      z, cut, dry_crossing, worst_length, lowest);
+  // Drying the cut hair restores the dry parameters bit for bit; the lengths stay cut, and the
+  // stiffer, lighter hair rises further (load parameter w L^3 / (E I) / 7.4).
+  const double wet_mean_tip = MeanTipZ(state);
+  const std::vector<double> cut_lengths = [&] {
+    std::vector<double> l;
+    for (const StrandModel& m : state.masters.models) l.push_back(m.Length());
+    return l;
+  }();
+  ASSERT_TRUE(Dry(&state, {}, nullptr, &error)) << error;
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    ExpectSameDryParameters(state.masters.models[i], dry.masters.models[i]);
+    EXPECT_EQ(state.masters.models[i].Length(), cut_lengths[i]);
+  }
+  EXPECT_GT(MeanTipZ(state), wet_mean_tip);
+}
+
+TEST(StylingTest, GrowingWetHairAddsLengthAndStaysWet) {
+  StyledHair state = Groomed(SmallStyle("caucasian", "wavy", 10, 0.1));
+  const StyledHair dry = state;
+  std::string error;
+  ASSERT_TRUE(Wet(&state, {}, {}, nullptr, &error)) << error;
+  const StyledHair wet = state;
+  const double step = 0.02;
+  const int steps = 3;
+  std::vector<StyledHair> sequence;
+  OperationReport report;
+  ASSERT_TRUE(Grow(&state, step, steps, {}, &sequence, &report, &error)) << error;
+  EXPECT_EQ(report.unconverged, 0) << report.message;
+  ASSERT_EQ(sequence.size(), 3u);
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    const double l0 = dry.masters.models[i].Length();
+    // L0 + k step exactly (to rounding): growth is a length edit.
+    for (int t = 0; t < steps; ++t) {
+      EXPECT_NEAR(sequence[t].masters.models[i].Length(), l0 + (t + 1) * step, 1e-12);
+      EXPECT_TRUE(sequence[t].wet);
+    }
+    // The new hair is wet hair: one material per strand, the wet one.
+    EXPECT_EQ(state.masters.models[i].material.young_modulus,
+              wet.masters.models[i].material.young_modulus);
+    EXPECT_EQ(state.masters.models[i].section.a, wet.masters.models[i].section.a);
+  }
+  // Dry restores every dry parameter bit for bit and keeps the grown length.
+  ASSERT_TRUE(Dry(&state, {}, nullptr, &error)) << error;
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    ExpectSameDryParameters(state.masters.models[i], dry.masters.models[i]);
+    EXPECT_NEAR(state.masters.models[i].Length(), dry.masters.models[i].Length() + steps * step,
+                1e-12);
+  }
+}
+
+TEST(StylingTest, WetHelixInZeroGravityStaysTheNaturalHelixWhenCurledAndGrown) {
+  // Without gravity or contact the equilibrium is the natural helix whatever E, a, b and rho
+  // (the elastic energy (EI/2) |kappa - kappa0|^2 has its minimum 0 there): wet hair curled to
+  // R, p and grown must measure R, p (do Carmo 1-5, MeasureHelix), including the new segments.
+  StyledHair state = SingleStrand(Vec3::Zero(), 0.1, 10, Vec3::Zero());
+  std::string error;
+  ASSERT_TRUE(Wet(&state, {}, {}, nullptr, &error)) << error;
+  const double radius = 0.012, pitch = 0.03;
+  ASSERT_TRUE(Curl(&state, radius, pitch, {}, {}, nullptr, &error)) << error;
+  ASSERT_TRUE(Grow(&state, 0.025, 2, {}, nullptr, nullptr, &error)) << error;
+  ASSERT_TRUE(state.solutions[0].summary.Converged());
+  ASSERT_GT(state.masters.models[0].NumSegments(), 10);  // the grown part has its own segments
+  // 1-cm segments, 10 samples each: four points 1 cm apart in the grown part (s = 11..14 cm).
+  const std::vector<Vec3> all =
+      SampleCentreline(state.masters.models[0], state.solutions[0].curvatures, 10);
+  const HelixShape grown = MeasureHelix({all[110], all[120], all[130], all[140]}, 0.01);
+  EXPECT_NEAR(grown.radius, radius, 1e-9);
+  EXPECT_NEAR(grown.pitch, pitch, 1e-9);
+  // Drying changes nothing of the shape (still zero gravity) and keeps the curl.
+  ASSERT_TRUE(Dry(&state, {}, nullptr, &error)) << error;
+  const std::vector<Vec3> dried =
+      SampleCentreline(state.masters.models[0], state.solutions[0].curvatures, 10);
+  const HelixShape measured = MeasureHelix({dried[20], dried[30], dried[40], dried[50]}, 0.01);
+  EXPECT_NEAR(measured.radius, radius, 1e-9);
+  EXPECT_NEAR(measured.pitch, pitch, 1e-9);
+  std::printf("wet curl + grow, zero gravity: grown part R %.9f p %.9f; dried R %.9f p %.9f\n",
+              grown.radius, grown.pitch, measured.radius, measured.pitch);
+}
+
+TEST(StylingTest, CurlingWetHairThenDryingEqualsCurlingDryHair) {
+  const StyledHair groomed = Groomed(SmallStyle("caucasian", "wavy", 20, 0.2));
+  const double radius = 0.01, pitch = 0.03;
+  std::string error;
+  // Path A: curl the dry hair.
+  StyledHair a = groomed;
+  ASSERT_TRUE(Curl(&a, radius, pitch, {}, {}, nullptr, &error)) << error;
+  // Path B: wet, curl, dry.
+  StyledHair b = groomed;
+  ASSERT_TRUE(Wet(&b, {}, {}, nullptr, &error)) << error;
+  ASSERT_TRUE(Curl(&b, radius, pitch, {}, {}, nullptr, &error)) << error;
+  ASSERT_TRUE(Dry(&b, {}, nullptr, &error)) << error;
+  double worst = 0.0;
+  for (size_t i = 0; i < a.masters.models.size(); ++i) {
+    // The curled dry model is the same bit for bit: natural curvature from CurvatureFromHelix,
+    // wisp radius from the *dry* fibre radius (Curl reads the remembered dry section while
+    // wet), hence the same clearance; the dry section and material restored.
+    EXPECT_EQ(a.masters.models[i].natural_curvature, b.masters.models[i].natural_curvature);
+    EXPECT_EQ(a.masters.wisp_radii[i], b.masters.wisp_radii[i]);
+    ExpectSameDryParameters(a.masters.models[i], b.masters.models[i]);
+    EXPECT_TRUE(b.solutions[i].summary.Converged());
+    worst = std::max(worst, (Tip(a, static_cast<int>(i)) - Tip(b, static_cast<int>(i))).norm());
+  }
+  std::printf("curl(dry) vs dry(curl(wet)): largest tip distance %.3g m\n", worst);
+  // Same model, same equilibrium reached by two paths: tips agree to the solver tolerance
+  // (residual 1e-6, as DryUndoesWet).
+  EXPECT_LT(worst, 1e-4);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Operations as data (StyleOperation, ApplyOperation).
+
+TEST(StylingTest, ApplyOperationIsTheDirectCall) {
+  const StyledHair groomed = Groomed(SmallStyle("asian", "straight", 12, 0.3));
+  std::string error;
+  std::vector<StyleOperation> ops(4);
+  ops[0].kind = StyleOperation::Kind::kWet;
+  ops[1].kind = StyleOperation::Kind::kCut;
+  ops[1].cut_region.offset = -0.12;  // kAbovePlane, n = +z: CutBelow(-0.12)
+  ops[1].cut.settle = true;
+  ops[2].kind = StyleOperation::Kind::kDry;
+  ops[3].kind = StyleOperation::Kind::kGrow;
+  ops[3].grow_step = 0.01;
+  ops[3].grow_steps = 2;
+  StyledHair a = groomed;
+  std::vector<std::string> names;
+  for (const StyleOperation& op : ops) {
+    ASSERT_TRUE(op.IsValid(&error)) << error;
+    OperationReport report;
+    ASSERT_TRUE(ApplyOperation(&a, op, {}, nullptr, &report, &error)) << error;
+    names.push_back(report.name);
+    EXPECT_EQ(report.name, OperationName(op.kind));
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"wet", "cut", "dry", "grow"}));
+  StyledHair b = groomed;
+  CutOptions settle;
+  settle.settle = true;
+  ASSERT_TRUE(Wet(&b, {}, {}, nullptr, &error)) << error;
+  ASSERT_TRUE(CutBelow(&b, -0.12, settle, {}, nullptr, &error)) << error;
+  ASSERT_TRUE(Dry(&b, {}, nullptr, &error)) << error;
+  ASSERT_TRUE(Grow(&b, 0.01, 2, {}, nullptr, nullptr, &error)) << error;
+  // Bit-identical: one code path, deterministic solver.
+  for (size_t i = 0; i < a.masters.models.size(); ++i) {
+    EXPECT_EQ(a.masters.models[i].segment_lengths, b.masters.models[i].segment_lengths);
+    EXPECT_EQ(a.solutions[i].curvatures, b.solutions[i].curvatures);
+  }
+}
+
+TEST(StylingTest, StyleOperationRejectsBadParametersByName) {
+  const auto rejects = [](const StyleOperation& op, const std::string& field) {
+    std::string why;
+    EXPECT_FALSE(op.IsValid(&why)) << field;
+    EXPECT_NE(why.find(field), std::string::npos) << why;
+  };
+  StyleOperation curl;
+  curl.kind = StyleOperation::Kind::kCurl;
+  curl.curl_radius = -1.0;
+  rejects(curl, "curl.radius");
+  curl.curl_radius = 0.01;
+  curl.curl_pitch = std::numeric_limits<double>::quiet_NaN();
+  rejects(curl, "curl.pitch");
+  curl.curl_pitch = 0.02;
+  curl.selection.indices = {3, -2};
+  rejects(curl, "selection.indices");
+  curl.selection.indices.clear();
+  curl.selection.min_height = 1.0;
+  curl.selection.max_height = 0.0;
+  rejects(curl, "selection.height");
+  StyleOperation wet;
+  wet.wet.layer_factor = -0.5;
+  rejects(wet, "wet.layer_factor");
+  StyleOperation cut;
+  cut.kind = StyleOperation::Kind::kCut;
+  cut.cut_region.kind = CutRegion::Kind::kInsideSphere;
+  cut.cut_region.radius = 0.0;
+  rejects(cut, "cut.radius");
+  cut.cut_region.kind = CutRegion::Kind::kMaxLength;
+  cut.cut_region.length = 0.1;
+  cut.cut.settle = true;
+  rejects(cut, "cut.settle");
+  cut.cut_region.kind = CutRegion::Kind::kAbovePlane;
+  cut.cut_region.normal = Vec3::Zero();
+  rejects(cut, "cut.normal");
+  StyleOperation grow;
+  grow.kind = StyleOperation::Kind::kGrow;
+  grow.grow_step = 0.01;
+  grow.grow_steps = 0;
+  rejects(grow, "grow.steps");
+  grow.grow_steps = 1;
+  grow.grow_step = std::numeric_limits<double>::infinity();
+  rejects(grow, "grow.step");
+  // Valid ones pass (anti-vacuity), including a selection whose bound needs the hair.
+  std::string why;
+  curl.selection = {};
+  curl.selection.indices = {1000};
+  EXPECT_TRUE(curl.IsValid(&why)) << why;
+  StyleOperation dry;
+  dry.kind = StyleOperation::Kind::kDry;
+  EXPECT_TRUE(dry.IsValid(&why)) << why;
+}
+
 }  // namespace
 }  // namespace ringlet

@@ -3,8 +3,10 @@
 
 #include <nlohmann/json_fwd.hpp>
 #include <string>
+#include <vector>
 
 #include "ringlet/hairstyle.h"
+#include "ringlet/styling.h"
 
 namespace ringlet {
 
@@ -16,8 +18,22 @@ namespace ringlet {
 bool ParseHairstyle(const nlohmann::json& document, const std::string& base_directory,
                     Hairstyle* style, std::string* error);
 
+/// The optional "operations" list of a hairstyle document (docs/hairstyle-format.md,
+/// "operations"): the styling operations that `ringlet style` applies, in order, after grooming.
+/// They are not part of the Hairstyle: ParseHairstyle checks them (a file with bad operations
+/// is rejected by every command) but keeps only the unstyled hair. Absent = no operations. On
+/// failure leaves *operations untouched and writes one line naming the field
+/// ("operations[2].cut.z: expected a finite number (m), got \"low\"") into *error. Never throws.
+bool ParseStyleOperations(const nlohmann::json& document, std::vector<StyleOperation>* operations,
+                          std::string* error);
+
 /// Reads and parses the hairstyle file at path (relative paths are relative to its directory).
 /// Syntax errors give line and column; every message starts with the path. Never throws.
 bool LoadHairstyle(const std::string& path, Hairstyle* style, std::string* error);
+
+/// LoadHairstyle that also returns the file's operations (ParseStyleOperations); operations may
+/// be null. Nothing is written on failure.
+bool LoadHairstyle(const std::string& path, Hairstyle* style,
+                   std::vector<StyleOperation>* operations, std::string* error);
 
 }  // namespace ringlet

@@ -189,6 +189,43 @@ bool CutBelow(StyledHair* state, double z, const CutOptions& options, const Batc
 bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
           std::vector<StyledHair>* sequence, OperationReport* report, std::string* why);
 
+/// One styling operation with its parameters: an entry of a hairstyle file's "operations" list
+/// (ParseStyleOperations, docs/hairstyle-format.md) or one option of `ringlet style`. Only the
+/// fields of `kind` are used. ApplyOperation runs it, so the file and the command line share one
+/// code path.
+struct StyleOperation {
+  enum class Kind { kCurl, kWet, kDry, kCut, kGrow };
+  Kind kind = Kind::kWet;
+  /// Curl: helix radius R (m, >= 0, +infinity = straight) and pitch p (m, finite, < 0 =
+  /// left-handed), on the selected masters (Curl).
+  double curl_radius = 0.0;
+  double curl_pitch = 0.0;
+  StrandSelection selection;
+  /// Wet: the wetting model's parameters (WetOptions).
+  WetOptions wet;
+  /// Cut: the region kept and the options (Cut; CutBelow is a kAbovePlane region, n = +z).
+  CutRegion cut_region;
+  CutOptions cut;
+  /// Grow: `grow_steps` steps of `grow_step` (m, > 0) each (Grow).
+  double grow_step = 0.0;
+  int grow_steps = 10;
+
+  /// Checks the parameters that do not depend on the hair (the checks of Curl, Wet, Cut and
+  /// Grow, with their messages; selection indices only for >= 0, the upper bound is checked
+  /// by ApplyOperation). Says which field and what was expected.
+  bool IsValid(std::string* why) const;
+};
+
+/// The operation's name, as in OperationReport::name: "curl", "wet", "dry", "cut", "grow".
+const char* OperationName(StyleOperation::Kind kind);
+
+/// Runs one operation on the styled state (Curl, Wet, Dry, Cut or Grow with the operation's
+/// parameters). For grow, `grow_sequence`, when not null, receives the state after each step.
+/// On failure returns false with why and leaves the state unchanged.
+bool ApplyOperation(StyledHair* state, const StyleOperation& operation, const BatchOptions& batch,
+                    std::vector<StyledHair>* grow_sequence, OperationReport* report,
+                    std::string* why);
+
 /// Samples the masters of a styled state and grows their wisps (GrowWisps).
 bool StyledStrands(const StyledHair& state, HairCurves* strands, std::string* why);
 

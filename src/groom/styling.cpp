@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "ringlet/hair_type.h"
@@ -75,6 +76,42 @@ std::string Summary(const OperationReport& r) {
   if (r.rounds > 1) s += ", " + std::to_string(r.rounds) + " rounds";
   if (r.unconverged > 0) s += ", " + std::to_string(r.unconverged) + " unconverged";
   return s;
+}
+
+bool CheckCurl(double radius, double pitch, std::string* why) {
+  // R = +infinity (straight) is allowed; NaN fails the comparison.
+  if (!(radius >= 0.0)) {
+    return Fail(why,
+                "curl.radius: expected a number >= 0 (m; inf = straight), got " + Number(radius));
+  }
+  if (!std::isfinite(pitch)) {
+    return Fail(
+        why, "curl.pitch: expected a finite number (m; < 0 = left-handed), got " + Number(pitch));
+  }
+  if (radius == 0.0 && pitch == 0.0) {
+    return Fail(why, "curl.radius, curl.pitch: R = p = 0 is not a helix");
+  }
+  return true;
+}
+
+bool CheckGrow(double step, int steps, std::string* why) {
+  if (!(std::isfinite(step) && step > 0.0)) {
+    return Fail(why, "grow.step: expected a finite length > 0 (m), got " + Number(step));
+  }
+  if (steps < 1 || steps > 100000) {
+    return Fail(why,
+                "grow.steps: expected an integer from 1 to 100000, got " + std::to_string(steps));
+  }
+  return true;
+}
+
+// The checks of Cut that do not need the hair.
+bool CheckCut(const CutRegion& region, const CutOptions& options, std::string* why) {
+  if (!region.IsValid(why) || !options.IsValid(why)) return false;
+  if (options.settle && region.kind == CutRegion::Kind::kMaxLength) {
+    return Fail(why, "cut.settle: only for plane and sphere cuts (a length cut is exact)");
+  }
+  return true;
 }
 
 }  // namespace
@@ -157,18 +194,7 @@ bool StrandSelection::Selects(int index, const Root& root) const {
 bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection& selection,
           const BatchOptions& batch, OperationReport* report, std::string* why) {
   const auto start = std::chrono::steady_clock::now();
-  // R = +infinity (straight) is allowed; NaN fails the comparison.
-  if (!(radius >= 0.0)) {
-    return Fail(why, "curl.radius: expected a number >= 0 (m; inf = straight), got " +
-                         Number(radius));
-  }
-  if (!std::isfinite(pitch)) {
-    return Fail(why, "curl.pitch: expected a finite number (m; < 0 = left-handed), got " +
-                         Number(pitch));
-  }
-  if (radius == 0.0 && pitch == 0.0) {
-    return Fail(why, "curl.radius, curl.pitch: R = p = 0 is not a helix");
-  }
+  if (!CheckCurl(radius, pitch, why)) return false;
   const int n = static_cast<int>(state->masters.models.size());
   if (!selection.IsValid(n, why)) return false;
 
@@ -388,10 +414,7 @@ StrandModel TruncateModel(const StrandModel& model, double arc_length, VecX* cur
 bool Cut(StyledHair* state, const CutRegion& region, const CutOptions& options,
          const BatchOptions& batch, OperationReport* report, std::string* why) {
   const auto start = std::chrono::steady_clock::now();
-  if (!region.IsValid(why) || !options.IsValid(why)) return false;
-  if (options.settle && region.kind == CutRegion::Kind::kMaxLength) {
-    return Fail(why, "cut.settle: only for plane and sphere cuts (a length cut is exact)");
-  }
+  if (!CheckCut(region, options, why)) return false;
   const int n = static_cast<int>(state->masters.models.size());
   // Where each master first leaves the region, at the current equilibrium.
   std::vector<int> which;
@@ -519,12 +542,7 @@ bool CutBelow(StyledHair* state, double z, const CutOptions& options, const Batc
 bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
           std::vector<StyledHair>* sequence, OperationReport* report, std::string* why) {
   const auto start = std::chrono::steady_clock::now();
-  if (!(std::isfinite(step) && step > 0.0)) {
-    return Fail(why, "grow.step: expected a finite length > 0 (m), got " + Number(step));
-  }
-  if (steps < 1 || steps > 100000) {
-    return Fail(why, "grow.steps: expected an integer from 1 to 100000, got " + std::to_string(steps));
-  }
+  if (!CheckGrow(step, steps, why)) return false;
   const int n = static_cast<int>(state->masters.models.size());
   // The longest segment of each master at the start: the grid resolution to keep.
   std::vector<double> max_segment(n);
@@ -561,6 +579,68 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
               " steps)";
   if (report) *report = r;
   return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Operations as data
+
+const char* OperationName(StyleOperation::Kind kind) {
+  switch (kind) {
+    case StyleOperation::Kind::kCurl:
+      return "curl";
+    case StyleOperation::Kind::kWet:
+      return "wet";
+    case StyleOperation::Kind::kDry:
+      return "dry";
+    case StyleOperation::Kind::kCut:
+      return "cut";
+    case StyleOperation::Kind::kGrow:
+      return "grow";
+  }
+  return "unknown";
+}
+
+bool StyleOperation::IsValid(std::string* why) const {
+  switch (kind) {
+    case Kind::kCurl:
+      if (!CheckCurl(curl_radius, curl_pitch, why)) return false;
+      for (int i : selection.indices) {
+        if (i < 0) {
+          return Fail(why,
+                      "selection.indices: expected master indices >= 0, got " + std::to_string(i));
+        }
+      }
+      // The upper bound of the indices needs the hair: ApplyOperation checks it.
+      return selection.IsValid(std::numeric_limits<int>::max(), why);
+    case Kind::kWet:
+      return wet.IsValid(why);
+    case Kind::kDry:
+      return true;
+    case Kind::kCut:
+      return CheckCut(cut_region, cut, why);
+    case Kind::kGrow:
+      return CheckGrow(grow_step, grow_steps, why);
+  }
+  return Fail(why, "operation: unknown kind");
+}
+
+bool ApplyOperation(StyledHair* state, const StyleOperation& operation, const BatchOptions& batch,
+                    std::vector<StyledHair>* grow_sequence, OperationReport* report,
+                    std::string* why) {
+  const StyleOperation& op = operation;
+  switch (op.kind) {
+    case StyleOperation::Kind::kCurl:
+      return Curl(state, op.curl_radius, op.curl_pitch, op.selection, batch, report, why);
+    case StyleOperation::Kind::kWet:
+      return Wet(state, op.wet, batch, report, why);
+    case StyleOperation::Kind::kDry:
+      return Dry(state, batch, report, why);
+    case StyleOperation::Kind::kCut:
+      return Cut(state, op.cut_region, op.cut, batch, report, why);
+    case StyleOperation::Kind::kGrow:
+      return Grow(state, op.grow_step, op.grow_steps, batch, grow_sequence, report, why);
+  }
+  return Fail(why, "operation: unknown kind");
 }
 
 bool StyledStrands(const StyledHair& state, HairCurves* strands, std::string* why) {

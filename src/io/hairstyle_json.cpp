@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "io/json_reader.h"
 #include "ringlet/atomic_file.h"
@@ -15,11 +17,12 @@
 namespace ringlet {
 namespace {
 
-using nlohmann::json;
+using internal::Element;
 using internal::Member;
 using internal::NumberRule;
 using internal::Reader;
 using internal::Show;
+using nlohmann::json;
 
 constexpr NumberRule kPositiveLength{"a finite number > 0 (m)", [](double x) { return x > 0.0; }};
 constexpr NumberRule kNonNegativeLength{"a finite number >= 0 (m)",
@@ -331,6 +334,250 @@ bool ParseLayersAndContact(Reader& reader, const json& document, Hairstyle* styl
   return true;
 }
 
+// ---------------------------------------------------------------------------------------------
+// "operations": the styling operations of `ringlet style` (styling.h, docs/styling.md).
+
+constexpr NumberRule kCurlPitchRule{"a finite number (m; < 0 = left-handed)",
+                                    [](double) { return true; }};
+constexpr NumberRule kStiffnessFactorRule{"a finite number in (0, 1] (E_wet / E_dry)",
+                                          [](double x) { return x > 0.0 && x <= 1.0; }};
+constexpr NumberRule kSwellingRule{"a finite number in [1, 2] (wet / dry radius)",
+                                   [](double x) { return x >= 1.0 && x <= 2.0; }};
+constexpr NumberRule kWaterDensityRule{"a finite number in [0, 2000] (kg/m^3)",
+                                       [](double x) { return x >= 0.0 && x <= 2000.0; }};
+constexpr NumberRule kLayerFactorRule{"a finite number in [0, 1]",
+                                      [](double x) { return x >= 0.0 && x <= 1.0; }};
+constexpr NumberRule kHeightRule{"a finite number (m)", [](double) { return true; }};
+
+// "select": {"indices": [...]} or {"polar_angle": [min, max], "height": [min, max]}.
+bool ParseSelection(Reader& reader, const json& curl, const std::string& curl_path,
+                    StrandSelection* selection) {
+  const json* object = nullptr;
+  if (!OptionalObject(reader, curl, curl_path, "select", &object)) return false;
+  if (!object) return true;
+  const std::string path = Member(curl_path, "select");
+  if (!reader.CheckFields(*object, path, {"indices", "polar_angle", "height"})) return false;
+  const json* indices = nullptr;
+  const char* expected_indices = "an array of master indices (integers >= 0)";
+  if (!reader.ReadArray(*object, path, "indices", expected_indices, &indices)) return false;
+  if (indices) {
+    if (object->contains("polar_angle") || object->contains("height")) {
+      return reader.Fail(path, "give either indices or polar_angle/height ranges, not both");
+    }
+    if (indices->empty()) {
+      return reader.Expected(Member(path, "indices"), "a non-empty array of master indices",
+                             *indices);
+    }
+    for (size_t k = 0; k < indices->size(); ++k) {
+      const json& v = (*indices)[k];
+      if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0.0 ||
+          v.get<double>() > 1e9 || v.get<double>() != std::floor(v.get<double>())) {
+        return reader.Expected(Element(Member(path, "indices"), k),
+                               "a master index (an integer >= 0)", v);
+      }
+      selection->indices.push_back(static_cast<int>(v.get<double>()));
+    }
+    return true;
+  }
+  Eigen::Vector2d polar(selection->min_polar_angle, selection->max_polar_angle);
+  if (!reader.ReadVector<2>(*object, path, "polar_angle", "rad, [min, max]", false, &polar)) {
+    return false;
+  }
+  if (!(polar(0) >= 0.0 && polar(0) <= polar(1) && polar(1) <= M_PI)) {
+    return reader.Expected(Member(path, "polar_angle"),
+                           "[min, max] with 0 <= min <= max <= pi (rad)",
+                           object->at("polar_angle"));
+  }
+  Eigen::Vector2d height(selection->min_height, selection->max_height);
+  if (!reader.ReadVector<2>(*object, path, "height", "m, [min, max]", false, &height)) {
+    return false;
+  }
+  if (!(height(0) <= height(1))) {
+    return reader.Expected(Member(path, "height"), "[min, max] with min <= max (m)",
+                           object->at("height"));
+  }
+  selection->min_polar_angle = polar(0);
+  selection->max_polar_angle = polar(1);
+  selection->min_height = height(0);
+  selection->max_height = height(1);
+  return true;
+}
+
+bool ParseCurlOperation(Reader& reader, const json& curl, const std::string& path,
+                        StyleOperation* op) {
+  if (!reader.CheckFields(curl, path, {"radius", "pitch", "select"})) return false;
+  const auto radius = curl.find("radius");
+  const char* expected_radius = "a finite number >= 0 (m) or \"inf\" (straighten)";
+  if (radius == curl.end()) return reader.Missing(Member(path, "radius"), expected_radius);
+  if (radius->is_string() && *radius == "inf") {
+    op->curl_radius = std::numeric_limits<double>::infinity();
+  } else if (!reader.ReadNumber(curl, path, "radius",
+                                {expected_radius, [](double x) { return x >= 0.0; }}, true,
+                                &op->curl_radius)) {
+    return false;
+  }
+  if (!reader.ReadNumber(curl, path, "pitch", kCurlPitchRule, true, &op->curl_pitch) ||
+      !ParseSelection(reader, curl, path, &op->selection)) {
+    return false;
+  }
+  if (op->curl_radius == 0.0 && op->curl_pitch == 0.0) {
+    return reader.Fail(path, "radius = pitch = 0 is not a helix");
+  }
+  return true;
+}
+
+bool ParseWetOperation(Reader& reader, const json& wet, const std::string& path,
+                       StyleOperation* op) {
+  WetOptions& w = op->wet;
+  return reader.CheckFields(wet, path,
+                            {"stiffness_factor", "swelling", "water_density", "layer_factor"}) &&
+         reader.ReadNumber(wet, path, "stiffness_factor", kStiffnessFactorRule, false,
+                           &w.stiffness_factor) &&
+         reader.ReadNumber(wet, path, "swelling", kSwellingRule, false, &w.swelling) &&
+         reader.ReadNumber(wet, path, "water_density", kWaterDensityRule, false,
+                           &w.water_density) &&
+         reader.ReadNumber(wet, path, "layer_factor", kLayerFactorRule, false, &w.layer_factor);
+}
+
+// "cut": exactly one region ("z", "plane", "sphere" or "length") and the options.
+bool ParseCutOperation(Reader& reader, const json& cut, const std::string& path,
+                       StyleOperation* op) {
+  if (!reader.CheckFields(cut, path,
+                          {"z", "plane", "sphere", "length", "settle", "tolerance", "max_rounds",
+                           "samples_per_segment"})) {
+    return false;
+  }
+  const char* kinds = "exactly one of \"z\", \"plane\", \"sphere\", \"length\"";
+  int given = 0;
+  for (const char* key : {"z", "plane", "sphere", "length"}) given += cut.contains(key) ? 1 : 0;
+  if (given == 0) {
+    return reader.Fail(path, std::string("missing the region (expected ") + kinds + ")");
+  }
+  if (given > 1) {
+    return reader.Fail(path, std::string("expected ") + kinds + ", got " + std::to_string(given));
+  }
+  CutRegion& region = op->cut_region;
+  if (cut.contains("z")) {
+    region.kind = CutRegion::Kind::kAbovePlane;
+    region.normal = Vec3::UnitZ();
+    if (!reader.ReadNumber(cut, path, "z", kHeightRule, true, &region.offset)) return false;
+  } else if (cut.contains("plane")) {
+    const json* plane = nullptr;
+    if (!OptionalObject(reader, cut, path, "plane", &plane)) return false;
+    const std::string p = Member(path, "plane");
+    region.kind = CutRegion::Kind::kAbovePlane;
+    if (!reader.CheckFields(*plane, p, {"normal", "offset"}) ||
+        !reader.ReadVector<3>(*plane, p, "normal", "a direction, pointing into the kept side", true,
+                              &region.normal) ||
+        !reader.ReadNumber(
+            *plane, p, "offset",
+            {"a finite number (m; n . r >= offset is kept)", [](double) { return true; }}, true,
+            &region.offset)) {
+      return false;
+    }
+    if (!(region.normal.norm() > 0.0)) {
+      return reader.Expected(Member(p, "normal"), "a non-zero direction", plane->at("normal"));
+    }
+  } else if (cut.contains("sphere")) {
+    const json* sphere = nullptr;
+    if (!OptionalObject(reader, cut, path, "sphere", &sphere)) return false;
+    const std::string p = Member(path, "sphere");
+    region.kind = CutRegion::Kind::kInsideSphere;
+    if (!reader.CheckFields(*sphere, p, {"centre", "radius"}) ||
+        !reader.ReadVector<3>(*sphere, p, "centre", "m", true, &region.centre) ||
+        !reader.ReadNumber(*sphere, p, "radius", kPositiveLength, true, &region.radius)) {
+      return false;
+    }
+  } else {
+    region.kind = CutRegion::Kind::kMaxLength;
+    if (!reader.ReadNumber(cut, path, "length", kPositiveLength, true, &region.length)) {
+      return false;
+    }
+  }
+  CutOptions& o = op->cut;
+  if (!reader.ReadBool(cut, path, "settle", &o.settle) ||
+      !reader.ReadNumber(cut, path, "tolerance", kPositiveLength, false, &o.tolerance) ||
+      !reader.ReadInteger(cut, path, "max_rounds", 1, 10000, &o.max_rounds) ||
+      !reader.ReadInteger(cut, path, "samples_per_segment", 1, 1024, &o.samples_per_segment)) {
+    return false;
+  }
+  if (o.settle && region.kind == CutRegion::Kind::kMaxLength) {
+    return reader.Fail(Member(path, "settle"),
+                       "only for \"z\", \"plane\" and \"sphere\" cuts (a length cut is exact)");
+  }
+  return true;
+}
+
+bool ParseGrowOperation(Reader& reader, const json& grow, const std::string& path,
+                        StyleOperation* op) {
+  return reader.CheckFields(grow, path, {"step", "steps"}) &&
+         reader.ReadNumber(grow, path, "step", kPositiveLength, true, &op->grow_step) &&
+         reader.ReadInteger(grow, path, "steps", 1, 100000, &op->grow_steps);
+}
+
+bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOperation>* out) {
+  const char* expected =
+      "an array of operations [{\"curl\": {...}}, {\"wet\": {}}, {\"cut\": {...}}, ...]";
+  const json* array = nullptr;
+  if (!reader.ReadArray(document, "", "operations", expected, &array)) return false;
+  std::vector<StyleOperation> operations;
+  if (array) {
+    const char* one_key =
+        "an object with one key naming the operation (\"curl\", \"wet\", \"dry\", \"cut\", "
+        "\"grow\")";
+    for (size_t i = 0; i < array->size(); ++i) {
+      const json& element = (*array)[i];
+      const std::string path = Element("operations", i);
+      if (!element.is_object() || element.size() != 1) {
+        return reader.Expected(path, one_key, element);
+      }
+      const std::string name = element.begin().key();
+      const json& value = element.begin().value();
+      const std::string op_path = Member(path, name);
+      StyleOperation op;
+      using Kind = StyleOperation::Kind;
+      bool known = false;
+      for (Kind kind : {Kind::kCurl, Kind::kWet, Kind::kDry, Kind::kCut, Kind::kGrow}) {
+        if (name == OperationName(kind)) {
+          op.kind = kind;
+          known = true;
+        }
+      }
+      if (!known) {
+        return reader.Fail(op_path,
+                           "unknown operation (expected \"curl\", \"wet\", \"dry\", "
+                           "\"cut\" or \"grow\")");
+      }
+      if (!value.is_object()) return reader.Expected(op_path, "an object", value);
+      bool ok = true;
+      switch (op.kind) {
+        case Kind::kCurl:
+          ok = ParseCurlOperation(reader, value, op_path, &op);
+          break;
+        case Kind::kWet:
+          ok = ParseWetOperation(reader, value, op_path, &op);
+          break;
+        case Kind::kDry:
+          if (!value.empty()) ok = reader.Expected(op_path, "an empty object {}", value);
+          break;
+        case Kind::kCut:
+          ok = ParseCutOperation(reader, value, op_path, &op);
+          break;
+        case Kind::kGrow:
+          ok = ParseGrowOperation(reader, value, op_path, &op);
+          break;
+      }
+      if (!ok) return false;
+      // The library's own checks, as a safety net (its messages name the operation's field).
+      std::string why;
+      if (!op.IsValid(&why)) return reader.Fail(path, why);
+      operations.push_back(std::move(op));
+    }
+  }
+  if (out) *out = std::move(operations);
+  return true;
+}
+
 bool ParseHairstyleDocument(Reader& reader, const json& document, const std::string& base,
                             Hairstyle* out) {
   if (!document.is_object()) {
@@ -339,9 +586,12 @@ bool ParseHairstyleDocument(Reader& reader, const json& document, const std::str
   }
   if (!reader.CheckFields(document, "",
                           {"description", "body", "scalp", "masters", "comb", "hair", "wisps",
-                           "layers", "contact", "solver", "gravity"})) {
+                           "layers", "contact", "solver", "gravity", "operations"})) {
     return false;
   }
+  // The operations are not part of the Hairstyle (ParseStyleOperations returns them), but a
+  // file with bad ones is a bad file, whichever command reads it.
+  if (!ParseOperations(reader, document, nullptr)) return false;
   const auto description = document.find("description");
   if (description != document.end() && !description->is_string()) {
     return reader.Expected("description", "a string", *description);
@@ -377,16 +627,42 @@ bool ParseHairstyle(const nlohmann::json& document, const std::string& base_dire
   return false;
 }
 
+bool ParseStyleOperations(const nlohmann::json& document, std::vector<StyleOperation>* operations,
+                          std::string* error) {
+  Reader reader;
+  try {
+    if (!document.is_object()) {
+      reader.Expected("", "a JSON object at the top level", document);
+    } else if (ParseOperations(reader, document, operations)) {
+      return true;
+    }
+  } catch (const std::exception& e) {
+    reader.Fail("operations", std::string("cannot read the operations: ") + e.what());
+  }
+  if (error) *error = reader.error();
+  return false;
+}
+
 bool LoadHairstyle(const std::string& path, Hairstyle* style, std::string* error) {
+  return LoadHairstyle(path, style, nullptr, error);
+}
+
+bool LoadHairstyle(const std::string& path, Hairstyle* style,
+                   std::vector<StyleOperation>* operations, std::string* error) {
   std::string text, why;
   if (!ReadFile(path, &text, error)) return false;
   json document;
   const std::string base = std::filesystem::path(path).parent_path().string();
+  Hairstyle parsed;
+  std::vector<StyleOperation> parsed_operations;
   if (!internal::ParseJsonText(text, &document, &why) ||
-      !ParseHairstyle(document, base.empty() ? "." : base, style, &why)) {
+      !ParseHairstyle(document, base.empty() ? "." : base, &parsed, &why) ||
+      !ParseStyleOperations(document, &parsed_operations, &why)) {
     if (error) *error = path + ": " + why;
     return false;
   }
+  *style = std::move(parsed);
+  if (operations) *operations = std::move(parsed_operations);
   return true;
 }
 
