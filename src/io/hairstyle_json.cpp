@@ -337,9 +337,11 @@ bool ParseHairstyleDocument(Reader& reader, const json& document, const std::str
     return reader.Expected("", "a JSON object {\"body\": ..., \"scalp\": ..., ...} at the top level",
                            document);
   }
+  // "render" holds render settings, read by render_json.cpp (the render commands) and ignored
+  // here.
   if (!reader.CheckFields(document, "",
                           {"description", "body", "scalp", "masters", "comb", "hair", "wisps",
-                           "layers", "contact", "solver", "gravity"})) {
+                           "layers", "contact", "solver", "gravity", "render"})) {
     return false;
   }
   const auto description = document.find("description");
