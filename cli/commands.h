@@ -10,6 +10,11 @@ namespace CLI {
 class App;
 }  // namespace CLI
 
+namespace ringlet {
+struct Hairstyle;
+struct Groom;
+}  // namespace ringlet
+
 namespace ringlet::cli {
 
 /// Exit codes shared by all subcommands.
@@ -30,6 +35,14 @@ Command AddSolveCommand(CLI::App* parent);
 
 /// `ringlet groom HAIRSTYLE.json -o OUTDIR/`: a full head of hair with standard file exports.
 Command AddGroomCommand(CLI::App* parent);
+
+/// `ringlet render INPUT -o IMAGE.png`: a hairstyle (groomed first) or a .hair file, rendered.
+Command AddRenderCommand(CLI::App* parent);
+
+/// The groom of `ringlet groom`, with its progress bar on stderr unless quiet (shared with
+/// `ringlet render`). Returns false with GroomHairstyle's message for invalid input.
+bool GroomWithProgress(const Hairstyle& style, int threads, bool quiet, Groom* groom,
+                       std::string* error);
 
 /// `ringlet style HAIRSTYLE.json --wet --cut-z Z ... -o OUTDIR/`: styling operations on a groom.
 Command AddStyleCommand(CLI::App* parent);

@@ -1,6 +1,7 @@
 // `ringlet groom HAIRSTYLE.json -o OUTDIR/`: a full head of hair from a hairstyle file (paper,
 // section 3): master strands solved in parallel with body contact and hull layers, wisps around
-// them, written as .hair, .usda, .obj and JSON (docs/hairstyle-format.md, docs/file-formats.md).
+// them, written as .hair, .usda, .obj and JSON (docs/hairstyle-format.md, docs/file-formats.md),
+// and with --render an image of it (render_image.h).
 //
 // Exit codes: 0 every master converged to a stable equilibrium, 2 some did not (files are still
 // written and the summary says how many), 1 bad usage or input (nothing is written).
@@ -23,7 +24,9 @@
 #include "ringlet/hair_file.h"
 #include "ringlet/hairstyle.h"
 #include "ringlet/hairstyle_json.h"
+#include "render_image.h"
 #include "ringlet/obj_export.h"
+#include "ringlet/render_json.h"
 #include "ringlet/result_json.h"
 #include "ringlet/styling.h"
 #include "ringlet/usd_export.h"
@@ -51,7 +54,14 @@ struct GroomArgs {
   bool quiet = false;
   int threads = 0;
   double hair_units_per_metre = 1.0;
+  bool render = false;  // also write render.png
+  int spp = 0;          // render overrides; 0 = the file's setting
+  int width = 0;
+  int height = 0;
 };
+
+// The image of --render, next to the other files.
+constexpr const char* kRenderName = "render.png";
 
 // "hair,usda" -> {"hair", "usda"}; unknown names are an error naming the valid ones.
 bool ParseFormats(const std::string& text, std::set<std::string>* formats, std::string* error) {
@@ -121,10 +131,26 @@ int RunGroom(const GroomArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
+  // The file's render settings are checked with or without --render: a mistake in them is
+  // found at once (docs/hairstyle-format.md, "render").
+  RenderSettings render_settings;
+  if (!LoadRenderSettings(args.hairstyle_path, &render_settings, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  if (args.spp) render_settings.options.samples_per_pixel = args.spp;
+  if (args.width) render_settings.options.width = args.width;
+  if (args.height) render_settings.options.height = args.height;
+  if (!args.render && (args.spp || args.width || args.height)) {
+    PrintError(std::string(args.spp ? "--spp" : args.width ? "--width" : "--height") +
+               ": only with --render");
+    return kExitBadInput;
+  }
   std::vector<std::string> names;
   for (const OutputFile& o : kOutputs) {
     if (formats.count(o.format)) names.push_back(o.name);
   }
+  if (args.render) names.push_back(kRenderName);
   if (!CheckOutputDirectory(args.output_dir, names, args.force, &error)) {
     PrintError(error);
     return kExitBadInput;
@@ -138,14 +164,25 @@ int RunGroom(const GroomArgs& args) {
 
   const auto start = std::chrono::steady_clock::now();
   Groom groom;
-  {
-    ProgressBar bar("solving masters", !args.quiet);
-    BatchOptions batch;
-    batch.threads = args.threads;
-    batch.progress = [&bar](int done, int total) { bar.Update(done, total); };
-    if (!GroomHairstyle(style, batch, &groom, &error)) {
-      bar.Finish();
-      PrintError(args.hairstyle_path + ": " + error);
+  if (!GroomWithProgress(style, args.threads, args.quiet, &groom, &error)) {
+    PrintError(args.hairstyle_path + ": " + error);
+    return kExitBadInput;
+  }
+  // --render: the image is rendered before any file is written, so that a failure writes
+  // nothing.
+  Image image;
+  RenderStats render_stats;
+  if (args.render) {
+    RenderJob job;
+    job.hair = &groom.strands;
+    job.body = style.body;
+    job.eccentricity = HairTypeEccentricity(style.hair_type);
+    job.orientation_seed = style.seed;
+    job.settings = render_settings;
+    job.threads = args.threads;
+    job.quiet = args.quiet;
+    if (!RenderJobImage(job, &image, &render_stats, &error)) {
+      PrintError(args.hairstyle_path + ": render: " + error);
       return kExitBadInput;
     }
   }
@@ -178,6 +215,12 @@ int RunGroom(const GroomArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
+  const std::string image_path = (std::filesystem::path(args.output_dir) / kRenderName).string();
+  if (args.render &&
+      !WriteJobImage(image_path, image, render_settings.exposure, args.force, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
   const double write_seconds = SecondsSince(write_start);
 
   const GroomSummary& s = groom.summary;
@@ -198,6 +241,10 @@ int RunGroom(const GroomArgs& args) {
           "`ringlet style` to apply them)\n",
           operations.size());
     }
+    if (args.render) {
+      PrintRenderSummary(image, render_settings.options.samples_per_pixel, render_stats,
+                         image_path);
+    }
     std::fflush(stdout);  // the summary before the warning, also when both go to one pipe
     if (!all_good) {
       PrintWarning(Format("%d of %d masters did not reach a stable equilibrium (see masters.json)",
@@ -208,6 +255,15 @@ int RunGroom(const GroomArgs& args) {
 }
 
 }  // namespace
+
+bool GroomWithProgress(const Hairstyle& style, int threads, bool quiet, Groom* groom,
+                       std::string* error) {
+  ProgressBar bar("solving masters", !quiet);
+  BatchOptions batch;
+  batch.threads = threads;
+  batch.progress = [&bar](int done, int total) { bar.Update(done, total); };
+  return GroomHairstyle(style, batch, groom, error);
+}
 
 Command AddGroomCommand(CLI::App* parent) {
   auto args = std::make_shared<GroomArgs>();
@@ -231,6 +287,15 @@ Command AddGroomCommand(CLI::App* parent) {
   app->add_option("--threads", args->threads,
                   "Worker threads (default 0: all cores); results do not depend on it")
       ->check(CLI::Range(0, 1024));
+  app->add_flag("--render", args->render,
+                "Also render the groom (hair and body) into render.png with the file's \"render\" "
+                "settings (docs/hairstyle-format.md)");
+  app->add_option("--spp", args->spp, "With --render: samples per pixel (default: the file's)")
+      ->check(CLI::Range(1, 1 << 20));
+  app->add_option("--width", args->width, "With --render: image width in pixels")
+      ->check(CLI::Range(1, 16384));
+  app->add_option("--height", args->height, "With --render: image height in pixels")
+      ->check(CLI::Range(1, 16384));
   app->add_flag("-q,--quiet", args->quiet,
                 "Print no summary, progress or warning (errors still go to stderr)");
   return Command{app, [args] { return RunGroom(*args); }};

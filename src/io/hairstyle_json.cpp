@@ -584,9 +584,12 @@ bool ParseHairstyleDocument(Reader& reader, const json& document, const std::str
     return reader.Expected("", "a JSON object {\"body\": ..., \"scalp\": ..., ...} at the top level",
                            document);
   }
+  // "render" holds render settings, read by render_json.cpp (the render commands) and ignored
+  // here.
   if (!reader.CheckFields(document, "",
                           {"description", "body", "scalp", "masters", "comb", "hair", "wisps",
-                           "layers", "contact", "solver", "gravity", "operations"})) {
+                           "layers", "contact", "solver", "gravity", "operations",
+                           "render"})) {
     return false;
   }
   // The operations are not part of the Hairstyle (ParseStyleOperations returns them), but a
