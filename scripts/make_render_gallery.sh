@@ -1,0 +1,93 @@
+#!/bin/sh
+# Rendered pictures for docs/rendering.md and the README: the four example hairstyles, dry vs wet,
+# circular vs elliptic fibres, hair colour by melanin, and multiple scattering vs the fast
+# transmittance preview on blonde hair.
+#
+#   scripts/make_render_gallery.sh [BUILD_DIR] [IMAGE_DIR]     (defaults: build, docs/images)
+#
+# Needs ringlet built in BUILD_DIR and /usr/bin/python3 with matplotlib (for the side-by-side
+# panels). Work files go to BUILD_DIR/gallery/. SIZE and SPP (environment) change the panels'
+# resolution and samples per pixel (defaults 360 and 16).
+set -eu
+cd "$(dirname "$0")/.."
+build=${1:-build}
+images=${2:-docs/images}
+python=/usr/bin/python3
+size=${SIZE:-360}
+spp=${SPP:-16}
+out=$build/gallery
+mkdir -p "$out" "$images"
+if [ ! -x "$build/ringlet" ]; then
+  echo "make_render_gallery.sh: $build/ringlet not found; build it first" >&2
+  exit 1
+fi
+ringlet=$build/ringlet
+body=examples/bodies/mannequin.json
+
+# One fixed camera for the comparisons, so that only the compared parameter changes: from the
+# front-right, slightly above, as the default framed camera (render_json.h), at the head.
+cat > "$out/camera.json" <<'EOF'
+{"render": {"camera": {"position": [0.42, 0.84, 0.16], "look_at": [0.0, 0.0, -0.07],
+                       "fov_degrees": 30}}}
+EOF
+
+# 1. The four example hairstyles, groomed and rendered with their own hair types (the
+#    eccentricity of each type is the mechanical one).
+for style in straight wavy curly african; do
+  echo "== groom $style --render"
+  "$ringlet" groom examples/hairstyles/$style.json -o "$out/$style" --force --render \
+    --width "$size" --height "$size" --spp "$spp" | tee "$out/$style.log"
+done
+$python scripts/combine_images.py -o "$images/render_styles.png" \
+  "$out/straight/render.png" "straight (caucasian)" \
+  "$out/wavy/render.png" "wavy (caucasian)" \
+  "$out/curly/render.png" "curly (caucasian)" \
+  "$out/african/render.png" "african (kinky)"
+
+render() {  # render OUTPUT.png INPUT ARGS...
+  output=$1
+  shift
+  echo "== render $* -> $output"
+  "$ringlet" render "$@" -o "$output" --force --settings "$out/camera.json" \
+    --width "$size" --height "$size" --spp "$spp"
+}
+
+# 2. Dry vs wet: the wet hair's shape (ringlet style --wet), same optics, same camera.
+"$ringlet" style examples/hairstyles/wavy.json --wet -o "$out/wavy_wet" --force \
+  | tee "$out/wavy_wet.log"
+e_caucasian=0.705  # sqrt(1 - 1/1.41^2): caucasian ellipticity 1.41 (docs/hair-types.md)
+render "$out/dry.png" "$out/wavy/strands.hair" --body $body --eccentricity $e_caucasian
+render "$out/wet.png" "$out/wavy_wet/strands.hair" --body $body --eccentricity $e_caucasian
+$python scripts/combine_images.py -o "$images/render_wet.png" \
+  "$out/dry.png" "wavy, dry" "$out/wet.png" "wavy, wet (E / 10, swollen, heavier)"
+
+# 3. Circular vs elliptic fibres on the same (african) shapes: only the optics change, the TRT
+#    glints move with the cross-section (Marschner et al. 2003, section 4.3).
+e_african=0.798  # sqrt(1 - 1/1.66^2): african ellipticity 1.66
+render "$out/circular.png" "$out/african/strands.hair" --body $body --eccentricity 0 \
+  --eumelanin 0.5
+render "$out/elliptic.png" "$out/african/strands.hair" --body $body --eccentricity $e_african \
+  --eumelanin 0.5
+$python scripts/combine_images.py -o "$images/render_eccentricity.png" \
+  "$out/circular.png" "circular fibres (e = 0)" \
+  "$out/elliptic.png" "elliptic fibres (e = 0.80, african)"
+
+# 4. Hair colour by pigment (Chiang et al. 2016's melanin absorption), wavy shapes.
+render "$out/black.png" "$out/wavy/strands.hair" --body $body --eccentricity $e_caucasian \
+  --eumelanin 8 --pheomelanin 0
+render "$out/brown.png" "$out/wavy/strands.hair" --body $body --eccentricity $e_caucasian \
+  --eumelanin 1.3 --pheomelanin 0.2
+render "$out/blonde.png" "$out/wavy/strands.hair" --body $body --eccentricity $e_caucasian \
+  --eumelanin 0.3 --pheomelanin 0.05
+render "$out/red.png" "$out/wavy/strands.hair" --body $body --eccentricity $e_caucasian \
+  --eumelanin 0.3 --pheomelanin 2.5
+$python scripts/combine_images.py -o "$images/render_melanin.png" \
+  "$out/black.png" "black (eumelanin 8)" "$out/brown.png" "brown (1.3, pheo 0.2)" \
+  "$out/blonde.png" "blonde (0.3, pheo 0.05)" "$out/red.png" "red (0.3, pheo 2.5)"
+
+# 5. Multiple scattering: blonde hair path traced vs the single-scattering preview.
+render "$out/blonde_preview.png" "$out/wavy/strands.hair" --body $body \
+  --eccentricity $e_caucasian --eumelanin 0.3 --pheomelanin 0.05 --shadows fibre_transmittance
+$python scripts/combine_images.py -o "$images/render_multiple_scattering.png" \
+  "$out/blonde_preview.png" "blonde, direct light + fibre transmittance" \
+  "$out/blonde.png" "blonde, path traced (16 bounces)"
