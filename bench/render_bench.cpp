@@ -1,11 +1,15 @@
 // The tracer on a synthetic head: 10,000 wavy strands of 24 points on a 10 cm sphere, 200 x 200
-// pixels, 4 samples per pixel, both shadow modes. Counters: rays per second of tracing (all
-// rays: camera, bounce, shadow; the Embree build excluded) and the build time.
+// pixels, 4 samples per pixel, both shadow modes, with a stand-in fibre model (the tracer's own
+// cost) and with HairBsdf (Chiang 2016, elliptic). Counters: rays per second of tracing (all
+// rays: camera, bounce, shadow; the Embree build excluded) and the build time. Also the cost of
+// one HairBsdf evaluation and one sample, for both scattering models.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
+#include "ringlet/hair_bsdf.h"
 #include "ringlet/render.h"
 
 namespace {
@@ -72,7 +76,14 @@ void BM_RenderHead(benchmark::State& state) {
   ringlet::Body::Create({ringlet::Sphere{Vec3::Zero(), 0.1, "head"}}, {}, body.get(), &error);
   ringlet::RenderScene scene;
   scene.hair = &hair;
-  scene.fibre = std::make_shared<GreyFibre>();
+  if (state.range(1) == 0) {
+    scene.fibre = std::make_shared<GreyFibre>();
+  } else {
+    ringlet::HairOptics optics;
+    optics.sigma_a = ringlet::AbsorptionFromMelanin(1.3, 0.2);
+    optics.eccentricity = 0.705;  // caucasian ellipticity 1.41
+    scene.fibre = std::make_shared<ringlet::HairBsdf>(optics);
+  }
   scene.body = body;
   Eigen::AlignedBox3d box;
   for (const auto& p : hair.points) box.extend(p.cast<double>());
@@ -105,7 +116,43 @@ void BM_RenderHead(benchmark::State& state) {
   state.counters["rays_per_render"] = static_cast<double>(rays) / state.iterations();
   state.counters["segments"] = static_cast<double>(hair.points.size() - hair.point_counts.size());
 }
-BENCHMARK(BM_RenderHead)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Args: shadow mode (0 path traced, 1 fibre transmittance), fibre (0 stand-in, 1 HairBsdf).
+BENCHMARK(BM_RenderHead)
+    ->Args({0, 0})
+    ->Args({1, 0})
+    ->Args({0, 1})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// One HairBsdf Eval or Sample on pseudo-random directions and offsets (fixed sequence).
+void BM_HairBsdf(benchmark::State& state) {
+  ringlet::HairOptics optics;
+  optics.model = state.range(0) == 0 ? ringlet::HairScatteringModel::kChiang2016
+                                     : ringlet::HairScatteringModel::kMarschner2003;
+  optics.sigma_a = ringlet::AbsorptionFromMelanin(1.3, 0.2);
+  optics.eccentricity = 0.705;
+  const ringlet::HairBsdf bsdf(optics);
+  const bool sample = state.range(1) == 1;
+  std::uint64_t k = 0;
+  for (auto _ : state) {
+    ++k;
+    const double a = 0.6180339887 * k, b = 0.7548776662 * k, c = 0.5698402910 * k;
+    const double u0 = a - std::floor(a), u1 = b - std::floor(b), u2 = c - std::floor(c);
+    const double st = 2.0 * u0 - 1.0, ct = std::sqrt(1.0 - st * st);
+    const Vec3 wo(st, 0.0, ct);
+    const ringlet::FibreHit hit{2.0 * u1 - 1.0, u2 * std::numbers::pi};
+    if (sample) {
+      benchmark::DoNotOptimize(bsdf.Sample(wo, hit, {u1, u2, u0, 0.5}));
+    } else {
+      const double pt = 2.0 * u2 - 1.0, pc = std::sqrt(1.0 - pt * pt);
+      const double phi = 2.0 * std::numbers::pi * u1;
+      benchmark::DoNotOptimize(bsdf.Eval(wo, Vec3(pt, pc * std::cos(phi), pc * std::sin(phi)), hit));
+    }
+  }
+}
+// Args: model (0 Chiang 2016, 1 Marschner 2003), operation (0 Eval, 1 Sample).
+BENCHMARK(BM_HairBsdf)->Args({0, 0})->Args({0, 1})->Args({1, 0})->Args({1, 1});
 
 }  // namespace
 

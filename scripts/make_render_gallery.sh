@@ -61,16 +61,38 @@ render "$out/wet.png" "$out/wavy_wet/strands.hair" --body $body --eccentricity $
 $python scripts/combine_images.py -o "$images/render_wet.png" \
   "$out/dry.png" "wavy, dry" "$out/wet.png" "wavy, wet (E / 10, swollen, heavier)"
 
-# 3. Circular vs elliptic fibres on the same (african) shapes: only the optics change, the TRT
-#    glints move with the cross-section (Marschner et al. 2003, section 4.3).
+# 3. Circular vs elliptic fibres on the same (straight) shapes, close up on the side of the head
+#    with the key light on the camera's side, so that the highlights show: only the optics
+#    change; with e > 0 the TRT lobe's centre moves with the orientation of each strand's
+#    cross-section (Marschner et al. 2003, section 4.3).
+cat > "$out/closeup.json" <<'EOF'
+{"render": {"camera": {"position": [0.5, -0.1, -0.12], "look_at": [0.06, 0.0, -0.08],
+                       "fov_degrees": 32},
+            "key_light": {"direction": [1.0, 0.1, 0.35], "angular_radius_degrees": 1.146,
+                          "irradiance": [3, 3, 3]}}}
+EOF
 e_african=0.798  # sqrt(1 - 1/1.66^2): african ellipticity 1.66
-render "$out/circular.png" "$out/african/strands.hair" --body $body --eccentricity 0 \
-  --eumelanin 0.5
-render "$out/elliptic.png" "$out/african/strands.hair" --body $body --eccentricity $e_african \
-  --eumelanin 0.5
+closeup() {  # closeup OUTPUT.png ARGS...
+  output=$1
+  shift
+  echo "== render close-up $* -> $output"
+  "$ringlet" render "$out/straight/strands.hair" --body $body -o "$output" --force \
+    --settings "$out/closeup.json" --width "$size" --height "$size" --spp "$spp" \
+    --eumelanin 0.6 --pheomelanin 0.1 --shadows fibre_transmittance "$@"
+}
+closeup "$out/circular.png" --eccentricity 0
+closeup "$out/elliptic.png" --eccentricity $e_african
+$python - "$out/circular.png" "$out/elliptic.png" "$out/difference.png" <<'EOF'
+import sys
+import matplotlib.image as mpimg
+import numpy as np
+a, b = (mpimg.imread(p)[..., :3] for p in sys.argv[1:3])
+mpimg.imsave(sys.argv[3], np.clip(4.0 * np.abs(b - a), 0.0, 1.0))
+EOF
 $python scripts/combine_images.py -o "$images/render_eccentricity.png" \
   "$out/circular.png" "circular fibres (e = 0)" \
-  "$out/elliptic.png" "elliptic fibres (e = 0.80, african)"
+  "$out/elliptic.png" "elliptic fibres (e = 0.80, as african hair)" \
+  "$out/difference.png" "|difference| x 4"
 
 # 4. Hair colour by pigment (Chiang et al. 2016's melanin absorption), wavy shapes.
 render "$out/black.png" "$out/wavy/strands.hair" --body $body --eccentricity $e_caucasian \
