@@ -16,41 +16,13 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/ringlet_cli_test.XXXXXX") || exit 1
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/out" "$work/scenes" "$work/bad_out"
 
-checks=0
-failures=0
-fail() {
-  echo "FAIL: $*" >&2
-  failures=$((failures + 1))
-}
-ok() { checks=$((checks + 1)); }
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"  # checks, fail, ok, run, expect_*
 
-# run ARGS...: runs the binary; sets $rc and leaves stdout and stderr in $work/stdout, stderr.
+# run ARGS...: runs the binary from here (these tests pass paths relative to the working
+# directory); sets $rc and leaves stdout and stderr in $work/stdout, $work/stderr.
 run() {
   "$RINGLET" "$@" >"$work/stdout" 2>"$work/stderr"
   rc=$?
-}
-
-# Line count of a file (0 for an empty file; a last line without newline counts).
-lines() { awk 'END { print NR }' "$1"; }
-
-expect_rc() {  # expect_rc WHAT EXPECTED
-  if [ "$rc" -eq "$2" ]; then ok; else
-    fail "$1: exit code $rc, expected $2 (stderr: $(head -c 300 "$work/stderr"))"
-  fi
-}
-
-expect_one_error_line() {  # expect_one_error_line WHAT SUBSTRING
-  local n
-  n=$(lines "$work/stderr")
-  if [ "$n" -eq 1 ]; then ok; else
-    fail "$1: $n lines on stderr, expected exactly 1: $(cat "$work/stderr")"
-  fi
-  if grep -q '^ringlet: error: ' "$work/stderr"; then ok; else
-    fail "$1: stderr does not start with 'ringlet: error: ': $(cat "$work/stderr")"
-  fi
-  if grep -qF -- "$2" "$work/stderr"; then ok; else
-    fail "$1: stderr does not mention '$2': $(cat "$work/stderr")"
-  fi
 }
 
 expect_empty_dir() {  # expect_empty_dir WHAT DIR
