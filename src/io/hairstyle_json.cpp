@@ -50,17 +50,6 @@ constexpr NumberRule kPackingRule{"a finite number in (0, 0.69]",
 constexpr NumberRule kLayerThicknessRule{"a finite number in [0, 0.1) (m)",
                                          [](double x) { return x >= 0.0 && x < 0.1; }};
 
-// An optional object member: null when absent, an error when not an object.
-bool OptionalObject(Reader& reader, const json& parent, const std::string& parent_path,
-                    const char* key, const json** out) {
-  *out = nullptr;
-  const auto it = parent.find(key);
-  if (it == parent.end()) return true;
-  if (!it->is_object()) return reader.Expected(Member(parent_path, key), "an object", *it);
-  *out = &*it;
-  return true;
-}
-
 bool ReadSeed(Reader& reader, const json& object, const std::string& path, const char* key,
               std::uint64_t* seed) {
   double value = static_cast<double>(*seed);

@@ -214,4 +214,15 @@ bool ParseJsonText(const std::string& text, nlohmann::json* out, std::string* er
   return true;
 }
 
+// An optional object member: null when absent, an error when not an object.
+bool OptionalObject(Reader& reader, const json& parent, const std::string& parent_path,
+                    const char* key, const json** out) {
+  *out = nullptr;
+  const auto it = parent.find(key);
+  if (it == parent.end()) return true;
+  if (!it->is_object()) return reader.Expected(Member(parent_path, key), "an object", *it);
+  *out = &*it;
+  return true;
+}
+
 }  // namespace ringlet::internal

@@ -191,4 +191,9 @@ class Reader {
 bool ParseSolverObject(Reader& reader, const json& parent, const std::string& parent_path,
                        SolveOptions* options);
 
+/// An optional object member parent[key]: *out is null when absent; an error naming
+/// parent_path.key when present but not an object.
+bool OptionalObject(Reader& reader, const json& parent, const std::string& parent_path,
+                    const char* key, const json** out);
+
 }  // namespace ringlet::internal

@@ -44,17 +44,6 @@ constexpr int kMaxImageSide = 16384;
 constexpr int kMaxSamplesPerPixel = 1 << 20;
 constexpr int kMaxBounces = 1000;
 
-// An optional object member: null when absent, an error when not an object.
-bool OptionalObject(Reader& reader, const json& parent, const std::string& parent_path,
-                    const char* key, const json** out) {
-  *out = nullptr;
-  const auto it = parent.find(key);
-  if (it == parent.end()) return true;
-  if (!it->is_object()) return reader.Expected(Member(parent_path, key), "an object", *it);
-  *out = &*it;
-  return true;
-}
-
 // An optional RGB triple with every component in [0, max] (max may be infinity).
 bool ReadRgb(Reader& reader, const json& object, const std::string& path, const char* key,
              double max, const char* unit, Rgb* out) {
