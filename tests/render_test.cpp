@@ -350,6 +350,48 @@ TEST(RenderTest, FibreHitOffsetIsOffsetOverRadius) {
   EXPECT_NE(angle_a, render::MakeFibreFrame(a, -Vec3::UnitY(), 8).hit.major_axis_angle);
 }
 
+// The ellipse's orientation from HairCurves::major_axes: a fibre along x seen from -y (frame:
+// x = e_x, z = -e_y toward the viewer, y = z cross x = +e_z). A major axis along +-e_z lies
+// along the frame's y: angle 0; along e_y (toward or away from the viewer, along z): pi/2; at
+// 45 degrees between +e_z and -e_y: pi/4; between +e_z and +e_y: 3 pi/4 (angles of a line, in
+// [0, pi)). Interpolated between the segment's points; a zero axis falls back to the seeded one.
+TEST(RenderTest, MajorAxisAngleFollowsTheCurvesAxes) {
+  constexpr double kRadius = 0.002;
+  const auto angle_for = [&](const Vec3f& axis0, const Vec3f& axis1, double x) {
+    HairCurves hair;
+    AddStrand(&hair, Line(Vec3(-1.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), 2), 2.0 * kRadius);
+    hair.major_axes = {axis0, axis1};
+    std::string error;
+    auto scene = render::EmbreeScene::Create(&hair, nullptr, &error);
+    EXPECT_NE(scene, nullptr) << error;
+    const render::SurfaceHit hit =
+        scene->Intersect(Vec3(x, -1.0, 0.3 * kRadius), Vec3::UnitY(), 0.0, 10.0, {});
+    EXPECT_EQ(hit.kind, render::HitKind::kHair);
+    return render::MakeFibreFrame(hit, -Vec3::UnitY(), 1).hit.major_axis_angle;
+  };
+  const Vec3f ez = Vec3f::UnitZ(), ey = Vec3f::UnitY();
+  const float c = static_cast<float>(std::sqrt(0.5));
+  EXPECT_NEAR(angle_for(ez, ez, 0.0), 0.0, 1e-7);
+  EXPECT_NEAR(angle_for(-ez, -ez, 0.0), 0.0, 1e-7);
+  EXPECT_NEAR(angle_for(ey, ey, 0.0), kPi / 2.0, 1e-7);
+  EXPECT_NEAR(angle_for(-ey, -ey, 0.0), kPi / 2.0, 1e-7);
+  EXPECT_NEAR(angle_for(Vec3f(0.0f, -c, c), Vec3f(0.0f, -c, c), 0.0), kPi / 4.0, 1e-6);
+  EXPECT_NEAR(angle_for(Vec3f(0.0f, c, c), Vec3f(0.0f, c, c), 0.0), 3.0 * kPi / 4.0, 1e-6);
+  // Halfway along a segment whose axis turns from e_z to -e_y: their mean, 45 degrees.
+  EXPECT_NEAR(angle_for(ez, -ey, 0.0), kPi / 4.0, 1e-5);
+  // A quarter of the way (x = -0.5): axis 0.75 e_z - 0.25 e_y, angle atan(1/3).
+  EXPECT_NEAR(angle_for(ez, -ey, -0.5), std::atan(1.0 / 3.0), 1e-5);
+  // No axis (zero): the seeded random angle of the strand, as without major_axes.
+  HairCurves plain;
+  AddStrand(&plain, Line(Vec3(-1.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), 2), 2.0 * kRadius);
+  std::string error;
+  auto scene = render::EmbreeScene::Create(&plain, nullptr, &error);
+  ASSERT_NE(scene, nullptr) << error;
+  const render::SurfaceHit hit = scene->Intersect(Vec3(0.0, -1.0, 0.0), Vec3::UnitY(), 0.0, 10.0, {});
+  EXPECT_EQ(angle_for(Vec3f::Zero(), Vec3f::Zero(), 0.0),
+            render::MakeFibreFrame(hit, -Vec3::UnitY(), 1).hit.major_axis_angle);
+}
+
 // A small lit scene: hair in front of a sphere, key light and sky.
 struct LitScene {
   HairCurves hair;

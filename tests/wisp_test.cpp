@@ -169,6 +169,15 @@ TEST(Wisp, ZeroOffsetChildEqualsMaster) {
       EXPECT_LT((Point(h, k, j, o.points_per_strand) - master.points[j]).norm(), kFloatTolerance);
     }
   }
+  // Each child point carries the master's major axis n1 there (cross_section.h: a along n1),
+  // the frame computed independently by SampleFramedCentreline: unit, normal to the strand.
+  ASSERT_EQ(h.major_axes.size(), h.points.size());
+  for (int k = 0; k < 5; ++k) {
+    for (int j = 0; j < o.points_per_strand; ++j) {
+      const Vec3 axis = h.major_axes[static_cast<size_t>(k) * o.points_per_strand + j].cast<double>();
+      EXPECT_LT((axis - master.frames[j].col(0)).norm(), kFloatTolerance) << k << " " << j;
+    }
+  }
   // include_master: the first strand is the master, even with a large radius and variations.
   o.include_master = true;
   o.jitter = 1e-3;

@@ -19,6 +19,12 @@ struct HairCurves {
   std::vector<float> widths;                ///< fibre diameter at each point (m); same size as points
   /// Optional per-strand linear RGB colour in [0, 1] (empty, or one per strand).
   std::vector<Vec3f> colors;
+  /// Optional per-point direction of the elliptic cross-section's major axis (empty, or one per
+  /// point): the material frame's n1 (cross_section.h), unit, normal to the strand, world
+  /// coordinates. The groom fills it from the masters' frames; the renderer orients each fibre's
+  /// ellipse by it (and picks a random orientation per strand when it is empty). File formats do
+  /// not store it.
+  std::vector<Vec3f> major_axes;
 
   int NumStrands() const { return static_cast<int>(point_counts.size()); }
   int NumPoints() const { return static_cast<int>(points.size()); }

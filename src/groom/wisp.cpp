@@ -84,7 +84,7 @@ ChildParameters DrawChild(const WispOptions& o, SplitMix64* rng) {
 // a constant rotation per step (s_j = j h), so a point costs a handful of multiply-adds.
 void WriteChild(const FramedCentreline& master, double fibre_radius, double wisp_radius,
                 const WispOptions& o, const ChildParameters& c, bool exact_master,
-                const Obstacle* obstacle, Vec3f* points, float* widths) {
+                const Obstacle* obstacle, Vec3f* points, float* widths, Vec3f* major_axes) {
   const int m = o.points_per_strand;
   const double length = master.Length();
   const double child_length = exact_master ? length : length * c.length_fraction;
@@ -146,10 +146,13 @@ void WriteChild(const FramedCentreline& master, double fibre_radius, double wisp
     const Mat3& qa = master.frames[interval];
     const Mat3& qb = master.frames[interval + 1];
     Vec3 x = (1.0 - t) * master.points[interval] + t * master.points[interval + 1];
+    const Vec3 n1 = (1.0 - t) * qa.col(0) + t * qb.col(0);
     if (d1 != 0.0 || d2 != 0.0) {
-      x += ((1.0 - t) * qa.col(0) + t * qb.col(0)) * d1 +
-           ((1.0 - t) * qa.col(1) + t * qb.col(1)) * d2;
+      x += n1 * d1 + ((1.0 - t) * qa.col(1) + t * qb.col(1)) * d2;
     }
+    // The child's cross-section is oriented as the master's at the same arc length: its major
+    // axis along the master's n1 (cross_section.h), for the renderer's elliptic fibres.
+    major_axes[j] = n1.normalized().cast<float>();
 
     // Optional push out of the body along the distance gradient.
     if (obstacle != nullptr) {
@@ -168,7 +171,7 @@ void WriteChild(const FramedCentreline& master, double fibre_radius, double wisp
 // Writes one wisp: N strands of m points into the given arrays (pre-sized by the caller).
 void WriteWisp(const FramedCentreline& master, const CrossSection& section, double wisp_radius,
                const WispOptions& o, std::uint64_t seed, const Obstacle* obstacle,
-               std::uint32_t* counts, Vec3f* points, float* widths) {
+               std::uint32_t* counts, Vec3f* points, float* widths, Vec3f* major_axes) {
   SplitMix64 rng(seed);
   const double fibre_radius = section.MeanRadius();
   const int m = o.points_per_strand;
@@ -177,7 +180,8 @@ void WriteWisp(const FramedCentreline& master, const CrossSection& section, doub
     const ChildParameters c = exact_master ? ChildParameters{} : DrawChild(o, &rng);
     counts[k] = static_cast<std::uint32_t>(m);
     WriteChild(master, fibre_radius, wisp_radius, o, c, exact_master, obstacle,
-               points + static_cast<size_t>(k) * m, widths + static_cast<size_t>(k) * m);
+               points + static_cast<size_t>(k) * m, widths + static_cast<size_t>(k) * m,
+               major_axes + static_cast<size_t>(k) * m);
   }
 }
 
@@ -326,9 +330,11 @@ void AppendWisp(const FramedCentreline& master, const CrossSection& section, dou
   curves->point_counts.resize(strands + n);
   curves->points.resize(points + n * m);
   curves->widths.resize(points + n * m);
+  curves->major_axes.resize(points, Vec3f::Zero());  // curves without axes: zero (unknown)
+  curves->major_axes.resize(points + n * m);
   WriteWisp(master, section, wisp_radius, options, seed, obstacle,
             curves->point_counts.data() + strands, curves->points.data() + points,
-            curves->widths.data() + points);
+            curves->widths.data() + points, curves->major_axes.data() + points);
 }
 
 HairCurves GenerateWisps(const std::vector<FramedCentreline>& masters,
@@ -381,6 +387,7 @@ HairCurves GenerateWisps(const std::vector<FramedCentreline>& masters,
   curves.point_counts.resize(masters.size() * n);
   curves.points.resize(masters.size() * n * m);
   curves.widths.resize(masters.size() * n * m);
+  curves.major_axes.resize(masters.size() * n * m);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, masters.size()),
                     [&](const tbb::blocked_range<size_t>& range) {
                       for (size_t i = range.begin(); i != range.end(); ++i) {
@@ -390,7 +397,8 @@ HairCurves GenerateWisps(const std::vector<FramedCentreline>& masters,
                         WriteWisp(masters[i], section, radius, options, WispSeed(seed, i), obstacle,
                                   curves.point_counts.data() + i * n,
                                   curves.points.data() + i * n * m,
-                                  curves.widths.data() + i * n * m);
+                                  curves.widths.data() + i * n * m,
+                                  curves.major_axes.data() + i * n * m);
                       }
                     });
   return curves;

@@ -60,6 +60,19 @@ bool CheckHairCurves(const HairCurves& curves, std::string_view name, std::strin
                     std::to_string(curves.point_counts.size()) + "), got " +
                     std::to_string(curves.colors.size()));
   }
+  if (!curves.major_axes.empty() && curves.major_axes.size() != curves.points.size()) {
+    return Fail(why, name,
+                ".major_axes: expected none or one per point (" +
+                    std::to_string(curves.points.size()) + "), got " +
+                    std::to_string(curves.major_axes.size()));
+  }
+  for (size_t i = 0; i < curves.major_axes.size(); ++i) {
+    if (!Finite(curves.major_axes[i])) {
+      return Fail(why, name,
+                  Index("major_axes", i) + ": expected a finite direction, got " +
+                      Text(curves.major_axes[i]));
+    }
+  }
   for (size_t i = 0; i < curves.points.size(); ++i) {
     if (!Finite(curves.points[i])) {
       return Fail(why, name,

@@ -261,6 +261,10 @@ SurfaceHit EmbreeScene::Intersect(const Vec3& org, const Vec3& dir, double tnear
       hit.tangent = Frame(dir).s;
     }
     hit.axis_point = p0 + s * axis;
+    if (!hair_->major_axes.empty()) {
+      hit.major_axis = (1.0 - s) * hair_->major_axes[first_point].cast<double>() +
+                       s * hair_->major_axes[first_point + 1].cast<double>();
+    }
     hit.radius = (1.0 - s) * r0 + s * r1;
     return hit;
   }
@@ -313,8 +317,20 @@ FibreFrame MakeFibreFrame(const SurfaceHit& hit, const Vec3& wo, std::uint64_t o
   frame.y = frame.z.cross(frame.x);
   const double h = hit.radius > 0.0 ? (hit.p - hit.axis_point).dot(frame.y) / hit.radius : 0.0;
   frame.hit.h = std::clamp(h, -1.0, 1.0);
-  groom::SplitMix64 rng(groom::StreamSeed(orientation_seed, static_cast<std::uint64_t>(hit.strand)));
-  frame.hit.major_axis_angle = std::numbers::pi * rng.Uniform();
+  // The ellipse's orientation: the given major axis seen in the normal plane (y, z), folded into
+  // [0, pi); without one (or with one along the fibre), a random angle per strand.
+  const double axis_y = hit.major_axis.dot(frame.y);
+  const double axis_z = hit.major_axis.dot(frame.z);
+  if (std::hypot(axis_y, axis_z) > 1e-6 * hit.major_axis.norm() && hit.major_axis.norm() > 0.0) {
+    double angle = std::atan2(axis_z, axis_y);  // (-pi, pi]
+    if (angle < 0.0) angle += std::numbers::pi;
+    if (angle >= std::numbers::pi) angle -= std::numbers::pi;
+    frame.hit.major_axis_angle = angle;
+  } else {
+    groom::SplitMix64 rng(
+        groom::StreamSeed(orientation_seed, static_cast<std::uint64_t>(hit.strand)));
+    frame.hit.major_axis_angle = std::numbers::pi * rng.Uniform();
+  }
   return frame;
 }
 

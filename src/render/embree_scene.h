@@ -46,6 +46,9 @@ struct SurfaceHit {
   Vec3 tangent = Vec3::UnitX();        ///< unit segment direction, root to tip
   Vec3 axis_point = Vec3::Zero();      ///< closest point of the segment's axis to p (m)
   double radius = 0.0;                 ///< fibre radius at axis_point (m)
+  /// Major axis of the cross-section at axis_point (HairCurves::major_axes interpolated along
+  /// the segment, not normalized); zero when the curves carry none.
+  Vec3 major_axis = Vec3::Zero();
   // Body hits.
   Vec3 normal = Vec3::UnitZ();  ///< outward unit geometric normal
 };
@@ -60,8 +63,10 @@ struct FibreFrame {
 };
 
 /// Builds the frame of a hair hit for the outgoing direction wo (unit, world): h = ((p -
-/// p_axis) . y) / r clamped to [-1, 1]; major_axis_angle uniform in [0, pi) per strand, hashed
-/// from orientation_seed and the strand index.
+/// p_axis) . y) / r clamped to [-1, 1]; major_axis_angle the angle from y toward z of
+/// hit.major_axis projected on the normal plane, in [0, pi) (an ellipse's axis is a line: theta
+/// and theta + pi are the same), or, when the hit has no axis (or one along the fibre), uniform
+/// in [0, pi) per strand, hashed from orientation_seed and the strand index.
 FibreFrame MakeFibreFrame(const SurfaceHit& hit, const Vec3& wo, std::uint64_t orientation_seed);
 
 /// Hair and body in one Embree scene. Immutable once created; queries are thread-safe.
