@@ -61,10 +61,11 @@ render "$out/wet.png" "$out/wavy_wet/strands.hair" --body $body --eccentricity $
 $python scripts/combine_images.py -o "$images/render_wet.png" \
   "$out/dry.png" "wavy, dry" "$out/wet.png" "wavy, wet (E / 10, swollen, heavier)"
 
-# 3. Circular vs elliptic fibres on the same (straight) shapes, close up on the side of the head
+# 3. Circular vs elliptic fibres on the same (straight) groom, close up on the side of the head
 #    with the key light on the camera's side, so that the highlights show: only the optics
 #    change; with e > 0 the TRT lobe's centre moves with the orientation of each strand's
-#    cross-section (Marschner et al. 2003, section 4.3).
+#    cross-section (Marschner et al. 2003, section 4.3), which the groom takes from the masters'
+#    material frames.
 cat > "$out/closeup.json" <<'EOF'
 {"render": {"camera": {"position": [0.5, -0.1, -0.12], "look_at": [0.06, 0.0, -0.08],
                        "fov_degrees": 32},
@@ -76,7 +77,7 @@ closeup() {  # closeup OUTPUT.png ARGS...
   output=$1
   shift
   echo "== render close-up $* -> $output"
-  "$ringlet" render "$out/straight/strands.hair" --body $body -o "$output" --force \
+  "$ringlet" render examples/hairstyles/straight.json -o "$output" --force \
     --settings "$out/closeup.json" --width "$size" --height "$size" --spp "$spp" \
     --eumelanin 0.6 --pheomelanin 0.1 --shadows fibre_transmittance "$@"
 }
