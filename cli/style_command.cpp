@@ -24,11 +24,13 @@
 #include "format.h"
 #include "outputs.h"
 #include "progress.h"
+#include "render_image.h"
 #include "ringlet/atomic_file.h"
 #include "ringlet/hair_file.h"
 #include "ringlet/hairstyle.h"
 #include "ringlet/hairstyle_json.h"
 #include "ringlet/obj_export.h"
+#include "ringlet/render_json.h"
 #include "ringlet/result_json.h"
 #include "ringlet/styling.h"
 #include "ringlet/usd_export.h"
@@ -52,6 +54,7 @@ struct StyleArgs {
   int steps = 10;
   bool force = false;
   bool quiet = false;
+  bool render = false;  // also write render.png of the styled hair
   int threads = 0;
   double hair_units_per_metre = 1.0;
 };
@@ -168,7 +171,16 @@ int RunStyle(const StyleArgs& args) {
   for (const PlannedOperation& planned : plan) {
     if (planned.op.kind == StyleOperation::Kind::kGrow) grow_steps += planned.op.grow_steps;
   }
-  const std::vector<std::string> names = OutputNames(grow_steps);
+  std::vector<std::string> names = OutputNames(grow_steps);
+  // --render: the file's render settings (docs/hairstyle-format.md, "render"), checked now.
+  RenderSettings render_settings;
+  if (args.render) {
+    if (!LoadRenderSettings(args.hairstyle_path, &render_settings, &error)) {
+      PrintError(error);
+      return kExitBadInput;
+    }
+    names.push_back("render.png");
+  }
   if (!CheckOutputDirectory(args.output_dir, names, args.force, &error)) {
     PrintError(error);
     return kExitBadInput;
@@ -230,6 +242,24 @@ int RunStyle(const StyleArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
+  // --render, before any file is written (a failure writes nothing). The eccentricity is the
+  // hair type's: wetting swells both semi-axes by the same factor.
+  Image image;
+  RenderStats render_stats;
+  if (args.render) {
+    RenderJob job;
+    job.hair = &strands;
+    job.body = style.body;
+    job.eccentricity = HairTypeEccentricity(style.hair_type);
+    job.orientation_seed = style.seed;
+    job.settings = render_settings;
+    job.threads = args.threads;
+    job.quiet = args.quiet;
+    if (!RenderJobImage(job, &image, &render_stats, &error)) {
+      PrintError(args.hairstyle_path + ": render: " + error);
+      return kExitBadInput;
+    }
+  }
 
   // Encode everything first, then write each file atomically.
   std::vector<std::pair<std::string, std::string>> files;
@@ -269,12 +299,22 @@ int RunStyle(const StyleArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
+  const std::string image_path = (std::filesystem::path(args.output_dir) / "render.png").string();
+  if (args.render &&
+      !WriteJobImage(image_path, image, render_settings.exposure, args.force, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
   int unconverged = 0;
   for (const StrandSolution& s : state.solutions) unconverged += s.summary.Converged() ? 0 : 1;
   if (!args.quiet) {
     std::printf("styled %zu masters, %d strands, %d points; total %s -> %s\n",
                 state.solutions.size(), strands.NumStrands(), strands.NumPoints(),
                 FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
+    if (args.render) {
+      PrintRenderSummary(image, render_settings.options.samples_per_pixel, render_stats,
+                         image_path);
+    }
     std::fflush(stdout);
     if (unconverged > 0) {
       PrintWarning(Format("%d of %zu masters did not converge (see masters.json)", unconverged,
@@ -472,6 +512,9 @@ Command AddStyleCommand(CLI::App* parent) {
       ->check(CLI::Range(1, 1000));
   app->add_option("--hair-units-per-metre", args->hair_units_per_metre,
                   "Length unit of the .hair files per metre (default 1: metres; 100: cm)");
+  app->add_flag("--render", args->render,
+                "Also render the styled hair (and body) into render.png with the file's \"render\" "
+                "settings (docs/rendering.md)");
   app->add_flag("--force", args->force, "Overwrite existing output files");
   app->add_option("--threads", args->threads,
                   "Worker threads (default 0: all cores); results do not depend on it")

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The command-line contract of `ringlet render` and `ringlet groom --render`
+# The command-line contract of `ringlet render`, `ringlet groom --render` and `ringlet style --render`
 # (docs/hairstyle-format.md, "render"): a tiny hairstyle renders into a PNG of the asked size
 # whose bytes do not depend on the thread count; a .hair file renders with and without a body;
 # `groom --render` adds render.png to the groom's files; existing images are never overwritten
@@ -216,6 +216,20 @@ run groom "$TINY" -o "$work/out/groom_plain" --quiet
 expect_rc "groom without --render" 0
 expect_files "groom without --render" "$work/out/groom_plain" \
   strands.hair strands.usda strands.obj masters.json
+
+# `style --render`: the styled (here wet) hair's picture next to the style's files, with the
+# file's render settings; bad render settings are refused before any work.
+run style "$TINY" --wet -o "$work/out/style" --render
+expect_rc "style --wet --render" 0
+expect_files "style --wet --render" "$work/out/style" \
+  strands.hair strands.usda strands.obj masters.json render.png
+expect_png "style --wet --render" "$work/out/style/render.png" 64x48
+grep -q "^rendered 64 x 48 at 2 spp .* -> .*render.png$" "$work/stdout" && ok ||
+  fail "style --render: no render summary on stdout: $(cat "$work/stdout")"
+run style "$work/styles/seed.json" --wet -o "$work/never" --render
+expect_rc "style --render with bad render settings" 1
+expect_one_error_line "style --render with bad render settings" "render.seed"
+[ -e "$work/never" ] && fail "style --render with bad render settings created $work/never" || ok
 
 # A .hair file: hair only, with a body, and in centimetres.
 run render "$work/out/groom/strands.hair" -o "$work/out/hair.png" --width 32 --height 32 --spp 1
