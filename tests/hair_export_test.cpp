@@ -307,6 +307,13 @@ TEST(HairFile, EncodeRejectsBadCurvesAndOptions) {
   c = good;
   c.colors[1].z() = std::numeric_limits<float>::infinity();
   expect_error(c, o, "curves.colors[1]");
+  c = good;
+  c.major_axes.assign(c.points.size() - 1, Vec3f::UnitX());
+  expect_error(c, o, "curves.major_axes: expected none or one per point (7), got 6");
+  c = good;
+  c.major_axes.assign(c.points.size(), Vec3f::UnitX());
+  c.major_axes[4].x() = std::numeric_limits<float>::quiet_NaN();
+  expect_error(c, o, "curves.major_axes[4]: expected a finite direction");
   HairFileOptions bad;
   bad.info = std::string(88, 'x');
   expect_error(good, bad, "info: expected at most 87 characters");

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -29,5 +31,12 @@ struct HairCurves {
   int NumStrands() const { return static_cast<int>(point_counts.size()); }
   int NumPoints() const { return static_cast<int>(points.size()); }
 };
+
+/// Checks what the exporters and the renderer rely on: each strand has >= 2 points, the counts
+/// add up to points.size() (no overflow), widths.size() == points.size(), colors is empty or has
+/// one entry per strand, major_axes is empty or has one per point, coordinates, colours and axes
+/// are finite, widths finite and >= 0. On failure *why gets one line that starts with name and
+/// the field ("frames[2].widths[7]: ...").
+bool CheckHairCurves(const HairCurves& curves, std::string_view name, std::string* why);
 
 }  // namespace ringlet

@@ -1,5 +1,5 @@
-// Shared by the hair exporters: consistency checks of HairCurves and locale-independent number
-// text. Private to src/io.
+// Shared by the hair exporters: locale-independent number text (the HairCurves check itself is
+// CheckHairCurves in hair_curves.h). Private to src/io.
 #pragma once
 
 #include <charconv>
@@ -9,12 +9,6 @@
 #include "ringlet/hair_curves.h"
 
 namespace ringlet::io_internal {
-
-/// Checks what every exporter relies on: each strand has >= 2 points, the counts add up to
-/// points.size() (no overflow), widths.size() == points.size(), colors is empty or has one entry
-/// per strand, coordinates and colours are finite, widths finite and >= 0. On failure *why gets
-/// one line that starts with name and the field ("frames[2].widths[7]: ...").
-bool CheckHairCurves(const HairCurves& curves, std::string_view name, std::string* why);
 
 /// Writes the shortest decimal text that reads back as exactly value at p (room for 16
 /// characters needed: at most 15 for a float) and returns the end. std::to_chars: no locale.

@@ -101,7 +101,7 @@ bool EncodeHairFile(const HairCurves& curves, const HairFileOptions& options, st
                     std::string* error) {
   std::string why;
   if (!options.IsValid(&why)) return Fail(error, "hair file options: " + why);
-  if (!io_internal::CheckHairCurves(curves, "curves", &why)) return Fail(error, why);
+  if (!CheckHairCurves(curves, "curves", &why)) return Fail(error, why);
   const size_t strands = curves.point_counts.size();
   const size_t points = curves.points.size();
   if (strands > std::numeric_limits<uint32_t>::max() ||

@@ -11,7 +11,7 @@ using io_internal::AppendNumber;
 
 bool EncodeObj(const HairCurves& curves, std::string* text, std::string* error) {
   std::string why;
-  if (!io_internal::CheckHairCurves(curves, "curves", &why)) {
+  if (!CheckHairCurves(curves, "curves", &why)) {
     if (error) *error = why;
     return false;
   }

@@ -129,7 +129,7 @@ bool Encode(std::span<const HairCurves> frames, bool sequence, const UsdExportOp
   if (frames.empty()) return Fail(error, "frames: expected at least one frame, got none");
   for (size_t f = 0; f < frames.size(); ++f) {
     const std::string name = sequence ? "frames[" + std::to_string(f) + "]" : "curves";
-    if (!io_internal::CheckHairCurves(frames[f], name, &why)) return Fail(error, why);
+    if (!CheckHairCurves(frames[f], name, &why)) return Fail(error, why);
     if (frames[f].colors.empty() != frames[0].colors.empty()) {
       return Fail(error, name + ".colors: expected colours in every frame or in none (frame 0 " +
                              (frames[0].colors.empty() ? "has none)" : "has them)"));

@@ -15,7 +15,6 @@
 #include <numbers>
 #include <sstream>
 
-#include "io/curves_check.h"
 #include "render/camera.h"
 #include "render/embree_scene.h"
 #include "render/sampler.h"
@@ -274,7 +273,7 @@ bool CheckInputs(const RenderScene& scene, const RenderOptions& options, Pinhole
       *why = "fibre: a FibreScattering model is required when hair is set";
       return false;
     }
-    if (!io_internal::CheckHairCurves(*scene.hair, "hair", why)) return false;
+    if (!CheckHairCurves(*scene.hair, "hair", why)) return false;
     if (scene.hair->points.size() >= std::numeric_limits<std::uint32_t>::max()) {
       *why = "hair.points: more than 2^32 - 2 points (Embree's 32-bit indices)";
       return false;

@@ -1,11 +1,21 @@
-// Consistency checks shared by the hair exporters.
-#include "io/curves_check.h"
-
+// The consistency check of HairCurves (hair_curves.h), relied on by the exporters and the
+// renderer.
+#include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <string>
 
-namespace ringlet::io_internal {
+#include "ringlet/hair_curves.h"
+
+namespace ringlet {
 namespace {
+
+// The shortest text that reads back as exactly value (std::to_chars: no locale).
+void AppendNumber(std::string* out, float value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  out->append(buffer, result.ptr);
+}
 
 bool Fail(std::string* why, std::string_view name, const std::string& what) {
   if (why) *why = std::string(name) + what;
@@ -97,4 +107,4 @@ bool CheckHairCurves(const HairCurves& curves, std::string_view name, std::strin
   return true;
 }
 
-}  // namespace ringlet::io_internal
+}  // namespace ringlet
