@@ -173,14 +173,8 @@ int RunGroom(const GroomArgs& args) {
   Image image;
   RenderStats render_stats;
   if (args.render) {
-    RenderJob job;
-    job.hair = &groom.strands;
-    job.body = style.body;
-    job.eccentricity = HairTypeEccentricity(style.hair_type);
-    job.orientation_seed = style.seed;
-    job.settings = render_settings;
-    job.threads = args.threads;
-    job.quiet = args.quiet;
+    const RenderJob job =
+        HairstyleRenderJob(style, &groom.strands, render_settings, args.threads, args.quiet);
     if (!RenderJobImage(job, &image, &render_stats, &error)) {
       PrintError(args.hairstyle_path + ": render: " + error);
       return kExitBadInput;

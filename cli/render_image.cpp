@@ -13,6 +13,19 @@
 
 namespace ringlet::cli {
 
+RenderJob HairstyleRenderJob(const Hairstyle& style, const HairCurves* strands,
+                             const RenderSettings& settings, int threads, bool quiet) {
+  RenderJob job;
+  job.hair = strands;
+  job.body = style.body;
+  job.eccentricity = HairTypeEccentricity(style.hair_type);
+  job.orientation_seed = style.seed;
+  job.settings = settings;
+  job.threads = threads;
+  job.quiet = quiet;
+  return job;
+}
+
 Eigen::AlignedBox3d FramingBox(const HairCurves* hair, const Body* body) {
   Eigen::AlignedBox3d box;  // empty
   if (hair) {

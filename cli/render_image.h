@@ -9,6 +9,7 @@
 
 #include "ringlet/body.h"
 #include "ringlet/hair_curves.h"
+#include "ringlet/hairstyle.h"
 #include "ringlet/render.h"
 #include "ringlet/render_json.h"
 
@@ -26,6 +27,11 @@ struct RenderJob {
   int threads = 0;      ///< 0 = all cores
   bool quiet = false;   ///< no progress bar
 };
+
+/// The job of a groomed or styled hairstyle's strands: its body, its hair type's eccentricity
+/// (HairTypeEccentricity), its seed for the fibres' fallback orientation.
+RenderJob HairstyleRenderJob(const Hairstyle& style, const HairCurves* strands,
+                             const RenderSettings& settings, int threads, bool quiet);
 
 /// The box the framed camera looks at: the hair's points together with the body's sphere named
 /// "head" (so that short hair still shows the whole head); the body's bounds when there is no

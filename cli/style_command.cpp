@@ -23,7 +23,6 @@
 #include "commands.h"
 #include "format.h"
 #include "outputs.h"
-#include "progress.h"
 #include "render_image.h"
 #include "ringlet/atomic_file.h"
 #include "ringlet/hair_file.h"
@@ -190,15 +189,9 @@ int RunStyle(const StyleArgs& args) {
   BatchOptions batch;
   batch.threads = args.threads;
   Groom groom;
-  {
-    ProgressBar bar("solving masters", !args.quiet);
-    BatchOptions groom_batch = batch;
-    groom_batch.progress = [&bar](int done, int total) { bar.Update(done, total); };
-    if (!GroomHairstyle(style, groom_batch, &groom, &error)) {
-      bar.Finish();
-      PrintError(args.hairstyle_path + ": " + error);
-      return kExitBadInput;
-    }
+  if (!GroomWithProgress(style, args.threads, args.quiet, &groom, &error)) {
+    PrintError(args.hairstyle_path + ": " + error);
+    return kExitBadInput;
   }
   StyledHair state;
   if (!MakeStyledHair(style, groom, &state, &error)) {
@@ -247,14 +240,8 @@ int RunStyle(const StyleArgs& args) {
   Image image;
   RenderStats render_stats;
   if (args.render) {
-    RenderJob job;
-    job.hair = &strands;
-    job.body = style.body;
-    job.eccentricity = HairTypeEccentricity(style.hair_type);
-    job.orientation_seed = style.seed;
-    job.settings = render_settings;
-    job.threads = args.threads;
-    job.quiet = args.quiet;
+    const RenderJob job =
+        HairstyleRenderJob(style, &strands, render_settings, args.threads, args.quiet);
     if (!RenderJobImage(job, &image, &render_stats, &error)) {
       PrintError(args.hairstyle_path + ": render: " + error);
       return kExitBadInput;
