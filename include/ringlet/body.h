@@ -82,6 +82,12 @@ class TriangleMesh {
   /// hierarchy for points near the mesh. An empty mesh returns +infinity and gradient +z.
   double SignedDistance(const Vec3& x, Vec3* gradient) const;
 
+  /// SignedDistance with its Hessian (1/m), exact away from the surface: 0 when the closest
+  /// point is inside a face; sign (I - u u^T - e e^T) / |x - c| on an edge of unit direction e;
+  /// sign (I - u u^T) / |x - c| at a vertex, with u = (x - c)/|x - c| (the Hessian of the distance
+  /// to a line and to a point). 0 on the surface itself. gradient and hessian may be null.
+  double SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian) const;
+
   /// The same result by testing every triangle, O(n): the reference for tests.
   double SignedDistanceBruteForce(const Vec3& x, Vec3* gradient) const;
 
@@ -126,7 +132,9 @@ class TriangleMesh {
   // Tests the packed triangles [begin, end) against *best.
   void Visit(int begin, int end, const Vec3& x, Candidate* best) const;
   // The signed distance and gradient from the closest point.
-  double Finish(const Vec3& x, const Candidate& best, Vec3* gradient) const;
+  double Finish(const Vec3& x, const Candidate& best, Vec3* gradient,
+                Mat3* hessian = nullptr) const;
+  void Search(const Vec3& x, Candidate* best) const;
 
   std::vector<Vec3> vertices_;
   std::vector<Triangle> triangles_;
@@ -189,6 +197,12 @@ class Body final : public Obstacle {
   /// sphere-then-mesh order on ties). Spheres cost one square root each and no allocation;
   /// meshes are skipped when x is farther from their box than the best distance so far.
   double SignedDistance(const Vec3& x, Vec3* gradient) const override;
+
+  /// SignedDistance with its exact Hessian (1/m): (I - n n^T)/|x - c| for a sphere, the mesh's
+  /// TriangleMesh::SignedDistanceHessian, and for the smooth union (blend k > 0) the Hessian of
+  /// the quadratic smooth minimum, h H_a + (1 - h) H_b - (g_a - g_b)(g_a - g_b)^T / (2k) while
+  /// the two distances are within k.
+  double SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian) const override;
 
   /// Box around all the components (m); empty for an empty body.
   const Box3& Bounds() const { return bounds_; }

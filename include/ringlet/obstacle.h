@@ -17,6 +17,16 @@ class Obstacle {
   /// receives dd/dx, the outward unit normal of the closest surface point (any unit vector where
   /// the distance is not differentiable).
   virtual double SignedDistance(const Vec3& x, Vec3* gradient) const = 0;
+
+  /// The signed distance with its gradient and its Hessian d^2 d / dx^2 (1/m), for the exact
+  /// second derivatives of the contact energy (strand_hessian.h). gradient and hessian may be
+  /// null. The default differentiates the gradient by central differences with a step of
+  /// kDistanceHessianStep (m): right for obstacles whose gradient is smooth; bodies override it
+  /// with the exact Hessian.
+  virtual double SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian) const;
+
+  /// Step of the default SignedDistanceHessian (m).
+  static constexpr double kDistanceHessianStep = 1e-7;
 };
 
 }  // namespace ringlet

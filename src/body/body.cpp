@@ -158,6 +158,93 @@ double Body::SignedDistance(const Vec3& x, Vec3* gradient) const {
   return best;
 }
 
+namespace {
+
+// SmoothFold with Hessians: the Hessian of the quadratic smooth minimum (Body::Create) of the
+// running minimum a and the component b, h H_a + (1 - h) H_b - (g_a - g_b)(g_a - g_b)^T / (2k).
+inline void SmoothFoldHessian(double d, const Vec3& g, const Mat3& hd, double k, double* best,
+                              Vec3* best_gradient, Mat3* best_hessian) {
+  if (d - *best >= k) return;
+  if (*best - d >= k) {
+    *best = d;
+    *best_gradient = g;
+    *best_hessian = hd;
+    return;
+  }
+  const double h = 0.5 + 0.5 * (d - *best) / k;
+  const Vec3 jump = *best_gradient - g;
+  *best = d + h * (*best - d) - k * h * (1.0 - h);
+  *best_hessian = h * *best_hessian + (1.0 - h) * hd - (jump * jump.transpose()) / (2.0 * k);
+  *best_gradient = h * *best_gradient + (1.0 - h) * g;
+}
+
+// Hessian of |x - c| - r: (I - n n^T) / |x - c| (0 at the centre, where it is undefined).
+inline Mat3 SphereHessian(const Vec3& r, double norm) {
+  if (!(norm > 0.0)) return Mat3::Zero();
+  const Vec3 n = r / norm;
+  return (Mat3::Identity() - n * n.transpose()) / norm;
+}
+
+}  // namespace
+
+double Body::SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian) const {
+  if (!hessian) return SignedDistance(x, gradient);
+  double best = std::numeric_limits<double>::infinity();
+  Vec3 best_gradient = Vec3::UnitZ();
+  Mat3 best_hessian = Mat3::Zero();
+  if (blend_ > 0.0) {
+    // The same components and the same fold as SignedDistance, with their Hessians.
+    for (const Eigen::Vector4d& s : packed_spheres_) {
+      const Vec3 r = x - s.head<3>();
+      const double reach = s(3) + best + blend_;
+      if (reach > 0.0 && r.squaredNorm() >= reach * reach) continue;
+      const double norm = r.norm();
+      SmoothFoldHessian(norm - s(3), norm > 0.0 ? Vec3(r / norm) : Vec3::UnitZ(),
+                        SphereHessian(r, norm), blend_, &best, &best_gradient, &best_hessian);
+    }
+    for (const TriangleMesh& m : meshes_) {
+      const double box_distance = std::sqrt(m.bounds().squaredExteriorDistance(x));
+      if (box_distance > 0.0 && box_distance >= best + blend_) continue;
+      Vec3 g = Vec3::UnitZ();
+      Mat3 hm;
+      const double d = m.SignedDistanceHessian(x, &g, &hm);
+      SmoothFoldHessian(d, g, hm, blend_, &best, &best_gradient, &best_hessian);
+    }
+  } else {
+    // The exact minimum: the Hessian of the minimizing component (ties as in SignedDistance).
+    int best_sphere = -1;
+    for (size_t i = 0; i < packed_spheres_.size(); ++i) {
+      const Eigen::Vector4d& s = packed_spheres_[i];
+      const double d = (x - s.head<3>()).norm() - s(3);
+      if (d < best) {
+        best = d;
+        best_sphere = static_cast<int>(i);
+      }
+    }
+    if (best_sphere >= 0) {
+      const Vec3 r = x - packed_spheres_[static_cast<size_t>(best_sphere)].head<3>();
+      const double norm = r.norm();
+      best_gradient = norm > 0.0 ? Vec3(r / norm) : Vec3::UnitZ();
+      best_hessian = SphereHessian(r, norm);
+    }
+    for (const TriangleMesh& m : meshes_) {
+      const double box_distance = std::sqrt(m.bounds().squaredExteriorDistance(x));
+      if (box_distance > 0.0 && box_distance >= best) continue;
+      Vec3 g;
+      Mat3 hm;
+      const double d = m.SignedDistanceHessian(x, &g, &hm);
+      if (d < best) {
+        best = d;
+        best_gradient = g;
+        best_hessian = hm;
+      }
+    }
+  }
+  if (gradient) *gradient = best_gradient;
+  *hessian = best_hessian;
+  return best;
+}
+
 const Sphere* Body::FindSphere(std::string_view name) const {
   if (name.empty()) return nullptr;
   for (const Sphere& s : spheres_) {

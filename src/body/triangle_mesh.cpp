@@ -413,7 +413,8 @@ void TriangleMesh::Visit(int begin, int end, const Vec3& x, Candidate* best) con
   }
 }
 
-double TriangleMesh::Finish(const Vec3& x, const Candidate& best, Vec3* gradient) const {
+double TriangleMesh::Finish(const Vec3& x, const Candidate& best, Vec3* gradient,
+                            Mat3* hessian) const {
   const size_t t = static_cast<size_t>(best.triangle);
   Vec3 normal;
   switch (best.feature) {
@@ -440,15 +441,45 @@ double TriangleMesh::Finish(const Vec3& x, const Candidate& best, Vec3* gradient
   if (gradient) {
     *gradient = distance > surface_tolerance_ ? Vec3(sign / distance * r) : normal.normalized();
   }
+  if (hessian) {
+    // Distance to a plane, a line or a point: its Hessian projects out the directions along
+    // which the distance grows linearly (u, and the edge direction e on an edge).
+    hessian->setZero();
+    if (best.feature != TriangleFeature::kFace && distance > surface_tolerance_) {
+      const Vec3 u = r / distance;
+      *hessian = Mat3::Identity() - u * u.transpose();
+      if (best.feature != TriangleFeature::kVertex0 && best.feature != TriangleFeature::kVertex1 &&
+          best.feature != TriangleFeature::kVertex2) {
+        const int k = static_cast<int>(best.feature) - static_cast<int>(TriangleFeature::kEdge0);
+        const Triangle& tri = triangles_[t];
+        const Vec3 e = (vertices_[static_cast<size_t>(tri[static_cast<size_t>((k + 1) % 3)])] -
+                        vertices_[static_cast<size_t>(tri[static_cast<size_t>(k)])])
+                           .normalized();
+        *hessian -= e * e.transpose();
+      }
+      *hessian *= sign / distance;
+    }
+  }
   return sign * distance;
 }
 
 double TriangleMesh::SignedDistance(const Vec3& x, Vec3* gradient) const {
+  return SignedDistanceHessian(x, gradient, nullptr);
+}
+
+double TriangleMesh::SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian) const {
   if (nodes_.empty()) {
     if (gradient) *gradient = Vec3::UnitZ();
+    if (hessian) hessian->setZero();
     return std::numeric_limits<double>::infinity();
   }
   Candidate best{std::numeric_limits<double>::infinity(), Vec3::Zero(), 0, TriangleFeature::kFace};
+  Search(x, &best);
+  return Finish(x, best, gradient, hessian);
+}
+
+void TriangleMesh::Search(const Vec3& x, Candidate* best_out) const {
+  Candidate& best = *best_out;
   // Depth-first traversal, nearer child first, pruning boxes farther than the best so far.
   int stack[kMaxDepth];
   int top = 0;
@@ -488,7 +519,6 @@ double TriangleMesh::SignedDistance(const Vec3& x, Vec3* gradient) const {
     }
     if (!found) break;
   }
-  return Finish(x, best, gradient);
 }
 
 double TriangleMesh::SignedDistanceBruteForce(const Vec3& x, Vec3* gradient) const {

@@ -26,6 +26,23 @@ void ForEachSample(const StrandModel& model, const VecX& curvatures, const Stran
 
 }  // namespace
 
+double Obstacle::SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian) const {
+  const double d = SignedDistance(x, gradient);
+  if (!hessian) return d;
+  // Central differences of the exact gradient, one column per axis (truncation O(h^2)).
+  const double h = kDistanceHessianStep;
+  for (int j = 0; j < 3; ++j) {
+    Vec3 xp = x, xm = x, gp, gm;
+    xp(j) += h;
+    xm(j) -= h;
+    SignedDistance(xp, &gp);
+    SignedDistance(xm, &gm);
+    hessian->col(j) = (gp - gm) / (2.0 * h);
+  }
+  *hessian = (0.5 * (*hessian + hessian->transpose())).eval();
+  return d;
+}
+
 std::vector<ContactForce> ComputeContactForces(const StrandModel& model, const VecX& curvatures) {
   std::vector<ContactForce> forces;
   const Obstacle* obstacle = model.contact.obstacle.get();
