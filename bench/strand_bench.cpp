@@ -2,8 +2,11 @@
 // Build with -DRINGLET_BUILD_BENCHMARKS=ON; results and machine in docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
+#include <Eigen/Cholesky>
+
 #include "ringlet/energy.h"
 #include "ringlet/statics.h"
+#include "ringlet/strand_hessian.h"
 
 namespace ringlet {
 namespace {
@@ -64,15 +67,105 @@ BENCHMARK(BM_Solve<Method::kBfgs, false>)
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Solve<Method::kNewton, false>)
     ->Name("BM_Solve/newton")
-    ->ArgsProduct({{15, 30, 60}, {0, 1}})
+    ->ArgsProduct({{15, 30, 60, 100, 120}, {0, 1}})
     ->ArgNames({"n", "curly"})
     ->Unit(benchmark::kMicrosecond);
-// The default: L-BFGS followed by the stability certificate (finite-difference Hessian and its
-// smallest eigenvalue).
+// The default: L-BFGS followed by the stability certificate (exact Hessian, O(n) factorization
+// and a few steps of inverse iteration for the smallest eigenvalue).
 BENCHMARK(BM_Solve<Method::kLbfgs, true>)
     ->Name("BM_Solve/lbfgs+stability")
     ->ArgsProduct({{15, 30, 60, 100, 120}, {0, 1}})
     ->ArgNames({"n", "curly"})
+    ->Unit(benchmark::kMicrosecond);
+
+// The stability certificate alone at the curly strand's equilibrium: the exact Hessian
+// (strand_hessian.h) and its O(n) block factorization, against the former certificate, central
+// differences of the exact gradient (6n evaluations) and a dense Cholesky (what SolveStrand did
+// before the exact Hessian; reproduced here with the public API).
+template <bool kExact>
+void BM_Certificate(benchmark::State& state) {
+  const StrandModel m = Hair(static_cast<int>(state.range(0)), true);
+  SolveOptions options;
+  options.check_stability = false;
+  const VecX q = SolveStrand(m, options).curvatures;
+  const int n = static_cast<int>(q.size());
+  StrandHessian hessian;
+  StrandHessianFactor factor;
+  StrandEnergy energy(m);
+  MatX dense(n, n);
+  VecX gp, gm, x = q;
+  for (auto _ : state) {
+    if (kExact) {
+      ComputeStrandHessian(m, q, &hessian);
+      benchmark::DoNotOptimize(factor.Factor(hessian, 0.0));
+    } else {
+      for (int j = 0; j < n; ++j) {
+        const double h = 1e-5 / m.Length();
+        x(j) = q(j) + h;
+        energy.Evaluate(x, &gp);
+        x(j) = q(j) - h;
+        energy.Evaluate(x, &gm);
+        x(j) = q(j);
+        dense.col(j) = (gp - gm) / (2.0 * h);
+      }
+      const Eigen::LLT<MatX> llt(0.5 * (dense + dense.transpose()));
+      benchmark::DoNotOptimize(llt.info());
+    }
+    benchmark::ClobberMemory();
+  }
+}
+BENCHMARK(BM_Certificate<true>)
+    ->Name("BM_Certificate/exact")
+    ->Arg(15)->Arg(30)->Arg(60)->Arg(100)->Arg(300)->Arg(1000)
+    ->ArgName("n")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Certificate<false>)
+    ->Name("BM_Certificate/finite_difference")
+    ->Arg(15)->Arg(30)->Arg(60)->Arg(100)
+    ->ArgName("n")
+    ->Unit(benchmark::kMicrosecond);
+
+// Heavy curly hair (issue 11): a curly strand (kappa^0 = 50 1/m, tau^0 = 10 1/m) of length L
+// hanging from a horizontal root, w L^3 / EI = 2040 L^3: 441 at 0.6 m, 1488 at 0.9 m; graded
+// segments with the recommended ratio. Arguments: length in mm, segments.
+template <Method kMethod>
+void BM_HeavyCurly(benchmark::State& state) {
+  const double length = 1e-3 * static_cast<double>(state.range(0));
+  const int segments = static_cast<int>(state.range(1));
+  StrandModel m = Hair(segments, true);
+  m.segment_lengths = UniformSegments(length, segments);
+  m.segment_lengths =
+      GradedSegments(length, segments, RecommendedGradingRatio(m.GravityParameter()));
+  SolveOptions options;
+  options.method = kMethod;
+  options.check_stability = true;
+  int iterations = 0;
+  bool stable = false;
+  for (auto _ : state) {
+    const StrandSolution s = SolveStrand(m, options);
+    if (!s.summary.Converged()) state.SkipWithError("not converged");
+    iterations = s.summary.iterations;
+    stable = s.summary.stable;
+    benchmark::DoNotOptimize(s.curvatures.data());
+  }
+  state.counters["iterations"] = iterations;
+  state.counters["stable"] = stable ? 1 : 0;
+  state.counters["load"] = m.GravityParameter();
+}
+BENCHMARK(BM_HeavyCurly<Method::kLbfgs>)
+    ->Name("BM_HeavyCurly/lbfgs")
+    ->ArgsProduct({{600, 900}, {30, 60}})
+    ->ArgNames({"L_mm", "n"})
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_HeavyCurly<Method::kNewton>)
+    ->Name("BM_HeavyCurly/newton")
+    ->ArgsProduct({{600, 900}, {30, 60}})
+    ->ArgNames({"L_mm", "n"})
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_HeavyCurly<Method::kBfgs>)
+    ->Name("BM_HeavyCurly/bfgs")
+    ->ArgsProduct({{600, 900}, {30, 60}})
+    ->ArgNames({"L_mm", "n"})
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

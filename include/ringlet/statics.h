@@ -17,7 +17,7 @@ namespace ringlet {
 enum class Method {
   kBfgs,    ///< dense BFGS with a strong-Wolfe line search (modern form of the paper's DFP [FP63])
   kLbfgs,   ///< limited-memory BFGS (10 pairs): O(n) per iteration instead of O(n^2)
-  kNewton,  ///< Newton with a Hessian finite-differenced from the exact gradient, eigenvalue-shifted
+  kNewton,  ///< Newton with the exact Hessian (strand_hessian.h, O(n) per step), shifted when needed
 };
 
 /// Why the minimizer stopped.
@@ -55,15 +55,17 @@ struct SolveSummary {
   Termination termination = Termination::kMaxIterations;
   std::string message;           ///< one human sentence
   int iterations = 0;            ///< minimizer iterations, all restarts included
-  int evaluations = 0;           ///< energy+gradient evaluations, stability check included
+  int evaluations = 0;           ///< energy+gradient evaluations
+  int hessian_evaluations = 0;   ///< exact Hessians (stability check, Newton steps), O(n) each
   EnergyTerms energy;            ///< energy terms at the result (J)
   double gradient_norm = 0.0;    ///< Euclidean norm of dE/dq at the result (J m)
   double residual = 0.0;         ///< dimensionless equilibrium residual (EquilibriumResidual)
   bool stability_checked = false;  ///< whether the Hessian test ran
   bool stable = false;           ///< converged and the scaled Hessian is positive definite
-  /// Smallest eigenvalue of the stiffness-scaled Hessian (1 = no load). When the Hessian is
-  /// positive definite (certified by Cholesky) this is an inverse-iteration estimate, slightly
-  /// above the true value; when it is not, the exact eigenvalue.
+  /// Smallest eigenvalue of the stiffness-scaled exact Hessian (1 = no load). When the Hessian
+  /// is positive definite (certified by its O(n) block factorization, strand_hessian.h) this is
+  /// an inverse-iteration estimate, slightly above the true value; when it is not, the
+  /// eigenvalue of a dense eigensolver (up to 200 segments) or of shifted inverse iteration.
   double min_eigenvalue = 0.0;
   int stability_restarts = 0;    ///< unstable equilibria left along negative curvature
   /// Contact at the result (ContactMeasure; zeros without an obstacle): the largest depth below
@@ -85,8 +87,8 @@ StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options
                            const VecX* initial_curvatures = nullptr);
 
 /// Smallest eigenvalue of the Hessian in the stiffness-scaled variables x (dimensionless; 1 with
-/// no gravity, negative at an unstable equilibrium), from central differences of the exact
-/// gradient (see SolveSummary::min_eigenvalue for its accuracy). If direction is not null it
+/// no gravity, negative at an unstable equilibrium), from the exact Hessian (strand_hessian.h;
+/// see SolveSummary::min_eigenvalue for its accuracy). If direction is not null it
 /// receives the matching eigenvector in curvature space.
 double MinScaledHessianEigenvalue(const StrandModel& model, const VecX& curvatures,
                                   VecX* direction = nullptr);

@@ -96,10 +96,14 @@ MinimizerResult Minimize(Objective& objective, VecX* x, const MinimizerOptions& 
 
     // Search direction.
     if (options.method == Method::kNewton) {
-      result.evaluations += FiniteDifferenceHessian(objective, *x, &hessian);
-      Eigen::SelfAdjointEigenSolver<MatX> eig(hessian);
-      VecX lambda = eig.eigenvalues().cwiseMax(kNewtonMinEigenvalue);
-      p = -eig.eigenvectors() * ((eig.eigenvectors().transpose() * g).cwiseQuotient(lambda));
+      if (objective.NewtonDirection(*x, g, &p)) {
+        ++result.hessian_evaluations;
+      } else {
+        result.evaluations += FiniteDifferenceHessian(objective, *x, &hessian);
+        Eigen::SelfAdjointEigenSolver<MatX> eig(hessian);
+        VecX lambda = eig.eigenvalues().cwiseMax(kNewtonMinEigenvalue);
+        p = -eig.eigenvectors() * ((eig.eigenvectors().transpose() * g).cwiseQuotient(lambda));
+      }
     } else if (limited) {
       memory.ApplyInverse(g, &p);
       p = -p;

@@ -22,6 +22,10 @@ class Objective {
   virtual double MaxStep(const VecX& x, const VecX& p) const = 0;
   /// Finite-difference step of coordinate j for Hessians (in units of x).
   virtual double HessianStep(int j) const = 0;
+  /// A Newton direction p = -(H + sigma I)^(-1) g from an exact Hessian H at x, with the
+  /// smallest shift sigma >= 0 tried that makes H + sigma I positive definite. Returns false when
+  /// the objective has no exact Hessian (Newton then differences the gradient).
+  virtual bool NewtonDirection(const VecX& /*x*/, const VecX& /*g*/, VecX* /*p*/) { return false; }
 };
 
 struct MinimizerOptions {
@@ -35,6 +39,7 @@ struct MinimizerResult {
   std::string message;
   int iterations = 0;
   int evaluations = 0;
+  int hessian_evaluations = 0;  ///< exact Hessians (NewtonDirection)
   double value = 0.0;
   double residual = 0.0;
 };

@@ -8,14 +8,25 @@
 #include <cmath>
 #include <limits>
 
+#include "ringlet/strand_hessian.h"
 #include "solve/minimizer.h"
 
 namespace ringlet {
 namespace {
 
 // An equilibrium is stable when the smallest eigenvalue of the stiffness-scaled Hessian is above
-// -kStabilityTolerance: the finite-difference Hessian is accurate to ~1e-9 in these units.
+// -kStabilityTolerance: the exact Hessian is accurate to rounding (~1e-13 relative, measured
+// against differences of the gradient to ~1e-9 in strand_hessian_test), so this only absorbs
+// the rounding of neutral directions.
 constexpr double kStabilityTolerance = 1e-7;
+// Up to this many unknowns the negative-curvature mode of an unstable equilibrium comes from a
+// dense symmetric eigensolver (O(N^2) memory: 2.9 MB at N = 600); beyond, from shifted inverse
+// iteration with the O(n) factorization, which needs no dense matrix at all.
+constexpr int kMaxDenseEigenUnknowns = 600;
+constexpr int kShiftedInverseIterations = 60;
+// Newton's shift, relative to the elastic part (the identity in scaled variables): the first
+// nonzero shift tried when H is not positive definite, then multiplied by 10.
+constexpr double kNewtonFirstShift = 1e-4;
 // Leaving an unstable equilibrium: the step along the negative-curvature mode turns the most
 // turned segment by this angle (rad).
 constexpr double kEscapeTurn = 0.05;
@@ -71,6 +82,26 @@ class ScaledStrandObjective final : public internal::Objective {
     return kHessianCurvatureStep / model_.Length() * scale_(j);
   }
 
+  // The exact Hessian in scaled variables, diag(1/scale) H_q diag(1/scale).
+  void ScaledHessian(const VecX& x, StrandHessian* hessian) {
+    q_ = natural_ + x.cwiseQuotient(scale_);
+    ComputeStrandHessian(model_, q_, hessian);
+    hessian->Scale(scale_.cwiseInverse());
+  }
+
+  bool NewtonDirection(const VecX& x, const VecX& g, VecX* p) override {
+    ScaledHessian(x, &hessian_);
+    // Levenberg-style shift: the smallest of 0, 1e-4, 1e-3, ... that gives a positive definite
+    // H + sigma I (in scaled variables the elastic part alone is I, so a shift of 1 is "treat
+    // the loads as half the stiffness").
+    for (double sigma = 0.0;; sigma = sigma == 0.0 ? kNewtonFirstShift : 10.0 * sigma) {
+      if (factor_.Factor(hessian_, -sigma)) break;
+      if (!(sigma < 1e12)) return false;
+    }
+    factor_.Solve(-g, p);
+    return p->allFinite();
+  }
+
   const VecX& scale() const { return scale_; }
 
  private:
@@ -79,29 +110,52 @@ class ScaledStrandObjective final : public internal::Objective {
   VecX natural_;
   VecX scale_;
   VecX q_, gq_;
+  StrandHessian hessian_;
+  StrandHessianFactor factor_;
 };
 
-// Smallest eigenvalue of the scaled Hessian at x, and, when it is negative, its eigenvector.
-// Positive definiteness is certified by a Cholesky factorization of H - tol I (O(N^3/3), ~10x
-// cheaper than an eigensolver at N = 300); the reported eigenvalue is then the Rayleigh quotient
-// after a few steps of inverse iteration with that factor (an estimate from above, converging to
-// lambda_min). Only when Cholesky fails is the full symmetric eigensolver run, to find the mode
-// along which to leave the unstable equilibrium.
-double MinEigen(ScaledStrandObjective& objective, const VecX& x, VecX* vector, int* evaluations) {
-  MatX hessian;
-  *evaluations += internal::FiniteDifferenceHessian(objective, x, &hessian);
-  const int n = static_cast<int>(hessian.rows());
-  const Eigen::LLT<MatX> llt(hessian - kStabilityTolerance * MatX::Identity(n, n));
-  if (llt.info() == Eigen::Success) {
-    VecX v = VecX::Ones(n) / std::sqrt(static_cast<double>(n));
-    for (int k = 0; k < 8; ++k) v = llt.solve(v).normalized();
+// Smallest eigenvalue of the scaled Hessian at x, and, when it is negative, its eigenvector, from
+// the exact Hessian (strand_hessian.h). Positive definiteness of H - tol I is certified by the O(n)
+// block factorization; the reported eigenvalue is then the Rayleigh quotient after a few steps
+// of inverse iteration with that factor (an estimate from above, converging to lambda_min), each
+// O(n). Only when the factorization fails is the mode along which to leave the unstable
+// equilibrium computed: by a dense eigensolver for small strands, by shifted inverse iteration
+// (a shift below lambda_min found by doubling, then the O(n) solve) for long ones.
+double MinEigen(ScaledStrandObjective& objective, const VecX& x, VecX* vector,
+                int* hessian_evaluations) {
+  StrandHessian hessian;
+  objective.ScaledHessian(x, &hessian);
+  ++*hessian_evaluations;
+  const int n = objective.Dimension();
+  StrandHessianFactor factor;
+  VecX v = VecX::Ones(n) / std::sqrt(static_cast<double>(n)), w;
+  if (factor.Factor(hessian, kStabilityTolerance)) {
+    for (int k = 0; k < 8; ++k) {
+      factor.Solve(v, &w);
+      v = w.normalized();
+    }
     if (vector) *vector = v;
-    return v.dot(hessian * v);
+    hessian.Multiply(v, &w);
+    return v.dot(w);
   }
-  Eigen::SelfAdjointEigenSolver<MatX> eig(hessian);
-  if (eig.info() != Eigen::Success) return std::nan("");
-  if (vector) *vector = eig.eigenvectors().col(0);
-  return eig.eigenvalues()(0);
+  if (n <= kMaxDenseEigenUnknowns) {
+    Eigen::SelfAdjointEigenSolver<MatX> eig(hessian.Dense());
+    if (eig.info() != Eigen::Success) return std::nan("");
+    if (vector) *vector = eig.eigenvectors().col(0);
+    return eig.eigenvalues()(0);
+  }
+  double shift = -1.0;
+  while (!factor.Factor(hessian, shift)) {
+    shift *= 2.0;
+    if (!(shift > -1e300)) return std::nan("");
+  }
+  for (int k = 0; k < kShiftedInverseIterations; ++k) {
+    factor.Solve(v, &w);
+    v = w.normalized();
+  }
+  if (vector) *vector = v;
+  hessian.Multiply(v, &w);
+  return v.dot(w);
 }
 
 }  // namespace
@@ -135,9 +189,9 @@ bool SolveOptions::IsValid(std::string* why) const {
 double MinScaledHessianEigenvalue(const StrandModel& model, const VecX& curvatures,
                                   VecX* direction) {
   ScaledStrandObjective objective(model);
-  int evaluations = 0;
+  int hessians = 0;
   VecX v;
-  const double lambda = MinEigen(objective, objective.ToScaled(curvatures), &v, &evaluations);
+  const double lambda = MinEigen(objective, objective.ToScaled(curvatures), &v, &hessians);
   if (direction) *direction = v.cwiseQuotient(objective.scale());
   return lambda;
 }
@@ -159,12 +213,13 @@ StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options
     summary.message = r.message;
     summary.iterations += r.iterations;
     summary.evaluations += r.evaluations;
+    summary.hessian_evaluations += r.hessian_evaluations;
     if (r.termination != Termination::kConverged || !options.check_stability) break;
 
     // Stability: the smallest eigenvalue of the scaled Hessian (1 = unloaded elastic rod).
     VecX mode;
     summary.stability_checked = true;
-    summary.min_eigenvalue = MinEigen(objective, x, &mode, &summary.evaluations);
+    summary.min_eigenvalue = MinEigen(objective, x, &mode, &summary.hessian_evaluations);
     if (!(summary.min_eigenvalue < -kStabilityTolerance)) break;
     if (summary.stability_restarts >= options.max_stability_restarts) {
       summary.message = "converged to an unstable equilibrium (negative Hessian eigenvalue " +
