@@ -2,7 +2,6 @@
 // O(n) storage, and their O(n) block factorization: the stability certificate and Newton steps.
 #pragma once
 
-#include <Eigen/Cholesky>
 #include <vector>
 
 #include "ringlet/math.h"
@@ -31,6 +30,9 @@ struct StrandHessian {
   std::vector<Mat3> diagonal;  ///< D_a (J m^2), symmetric
   std::vector<Mat63> twist;    ///< S_a (rows 0-2: rad per 1/m = m; rows 3-5: m^2)
   std::vector<Mat63> load;     ///< B_b (rows 0-2: J m; rows 3-5: J)
+  /// Whether some B has non-zero bottom rows (contact samples carry a force); when false they
+  /// are all zero and the factorization works on the 3x3 top blocks alone.
+  bool translational = false;
 
   /// Number of segments n (the matrix is 3n x 3n).
   int NumSegments() const { return static_cast<int>(diagonal.size()); }
@@ -45,9 +47,9 @@ struct StrandHessian {
 /// Computes the exact Hessian of StrandEnergy at curvatures (size 3n): elastic (eq. 3, l_i K on
 /// the diagonal), gravity (eqs. 4-5) and the contact penalty (section 3.1) with the same samples
 /// and the same broad phase as ContactEnergy, including the obstacle's curvature
-/// (Obstacle::SignedDistanceHessian). Second derivatives of each helical segment come from
-/// forward-mode differentiation of its closed-form gradient (forward over reverse, exact to
-/// rounding); the chain is summed in one forward and one reverse sweep, O(n + samples).
+/// (Obstacle::SignedDistanceHessian). Second derivatives of each helical segment are in closed
+/// form (the derivatives of its coefficient functions G_m, helix.h), exact to rounding; the chain
+/// is summed in one forward and one reverse sweep, O(n + samples).
 void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures, StrandHessian* hessian);
 
 /// Block LDL^T factorization of H - shift I from the tip to the root, H - shift I = U D U^T with U
@@ -67,7 +69,7 @@ class StrandHessianFactor {
 
  private:
   const StrandHessian* hessian_ = nullptr;
-  std::vector<Eigen::LLT<Mat3>> pivots_;  // D'_k
+  std::vector<Mat3> inverses_;            // D'_k^(-1)
   std::vector<Mat63> reduced_load_;       // B'_k = B_k - C S_k
   int failed_ = -1;
 };

@@ -15,25 +15,20 @@
 //     (E_s S_a)^T Phi_s (E_s S_b), E_s = [-[y_s]x, I], Phi_s the penalty's Hessian in space:
 //     S_a^T (Gamma_b S_b + own samples of b) with Gamma_b = sum_(s past b) E_s^T Phi_s E_s.
 // The diagonal blocks add the segment's own second derivatives: the Jacobian of its closed-form
-// gradient (HelixSegmentVjp and HelixChordVjp with the adjoints held fixed), computed exactly by
-// forward-mode jets of Omega_a through the same closed forms (rod/helix_formulas.h).
+// gradient (HelixSegmentVjp and HelixChordVjp with the adjoints held fixed), in closed form from
+// the G_m (helix.h) and their derivatives up to G_8 (OwnHessian below).
 #include "ringlet/strand_hessian.h"
-
-#include <unsupported/Eigen/AutoDiff>
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 
+#include "ringlet/helix.h"
 #include "ringlet/obstacle.h"
-#include "rod/helix_formulas.h"
 
 namespace ringlet {
 namespace {
 
-using Jet = Eigen::AutoDiffScalar<Vec3>;
-using JVec3 = internal::Vec3T<Jet>;
-using JMat3 = internal::Mat3T<Jet>;
 using Mat36 = Eigen::Matrix<double, 3, 6>;
 
 constexpr double kInverseFactorial[9] = {1.0,         1.0,          0.5,           1.0 / 6.0,
@@ -43,18 +38,31 @@ constexpr double kInverseFactorial[9] = {1.0,         1.0,          0.5,        
 // G_m(x), m = 1..8 (helix.h). Below |x| = 2 the Taylor series of G7 and G8 (16 terms: the next
 // one is below 1e-20 relative at x = 2) and the downward recurrence G_m = 1/m! - x^2 G_(m+2),
 // which only adds; above, the closed forms of G1, G2 and G_(m+2) = (1/m! - G_m) / x^2.
+constexpr int kTaylorTerms8 = 16;
+// kTaylor8[m - 7][k] = (-1)^k / (2k + m)!, m = 7, 8.
+struct Taylor8Table {
+  double c[2][kTaylorTerms8];
+  Taylor8Table() {
+    for (int m = 7; m <= 8; ++m) {
+      for (int k = 0; k < kTaylorTerms8; ++k) {
+        double factorial = 1.0;
+        for (int j = 2; j <= 2 * k + m; ++j) factorial *= j;
+        c[m - 7][k] = (k % 2 == 0 ? 1.0 : -1.0) / factorial;
+      }
+    }
+  }
+};
+const Taylor8Table kTaylor8;
+
 void HelixFunctions8(double x, double g[9]) {
   const double y = x * x;
   g[0] = 0.0;
   if (std::abs(x) < 2.0) {
-    constexpr int kTerms = 16;
+    // Fewer terms for small x, as in helix.cpp (the next term below 1e-17 relative).
+    const int terms = y < 0.0625 ? 6 : y < 0.25 ? 7 : y < 1.0 ? 9 : kTaylorTerms8;
     for (int m = 7; m <= 8; ++m) {
-      double sum = 0.0;
-      for (int k = kTerms - 1; k >= 0; --k) {
-        double factorial = 1.0;
-        for (int j = 2; j <= 2 * k + m; ++j) factorial *= j;
-        sum = sum * y + (k % 2 == 0 ? 1.0 : -1.0) / factorial;
-      }
+      double sum = kTaylor8.c[m - 7][terms - 1];
+      for (int k = terms - 2; k >= 0; --k) sum = sum * y + kTaylor8.c[m - 7][k];
       g[m] = sum;
     }
     for (int m = 6; m >= 1; --m) g[m] = kInverseFactorial[m] - y * g[m + 2];
@@ -65,27 +73,70 @@ void HelixFunctions8(double x, double g[9]) {
   for (int m = 1; m <= 6; ++m) g[m + 2] = (kInverseFactorial[m] - g[m]) / y;
 }
 
-// Jets of G_m(l |Omega|), m = 1..6, as functions of Omega: with x = l |Omega|,
-// dG_m/dOmega = (G_m'(x)/x) x dx/dOmega = (m G_(m+2) - G_(m+1)) l^2 Omega (helix.h).
-void FunctionJets(const Vec3& omega, double l, Jet g[7]) {
-  double v[9];
-  HelixFunctions8(l * omega.norm(), v);
-  g[0] = Jet(0.0, Vec3::Zero());
-  for (int m = 1; m <= 6; ++m) g[m] = Jet(v[m], ((m * v[m + 2] - v[m + 1]) * l * l) * omega);
+// The coefficients of A_m = 1/(m-1)! l^(m-1) I + a1 W + a2 W^2, the matrix that gives R (m = 1,
+// A_1), p (m = 2, A_2 e3) and c (m = 3, A_3 e3) of a helical segment of length l (helix.h), as
+// functions of Omega: a1 = l^m G_m, a2 = l^(m+1) G_(m+1), their gradients b1 Omega, b2 Omega and
+// the gradients of those, c1 Omega, c2 Omega. All from dG_k/dOmega = l^2 (k G_(k+2) - G_(k+1))
+// Omega (helix.h: G_k'(x)/x = k G_(k+2) - G_(k+1), and x dx/dOmega = l^2 Omega).
+struct Coefficients {
+  double a1, a2, b1, b2, c1, c2;
+};
+
+Coefficients CoefficientsOf(int m, double l, const double g[9]) {
+  // dG_k / dOmega = l^2 d_k Omega with d_k = k G_(k+2) - G_(k+1); d(d_k)/dOmega = l^2 e_k Omega
+  // with e_k = k d_(k+2) - d_(k+1).
+  auto d = [&](int k) { return k * g[k + 2] - g[k + 1]; };
+  double lp[9];
+  lp[0] = 1.0;
+  for (int k = 1; k < 9; ++k) lp[k] = lp[k - 1] * l;
+  Coefficients c;
+  c.a1 = lp[m] * g[m];
+  c.a2 = lp[m + 1] * g[m + 1];
+  c.b1 = lp[m + 2] * d(m);
+  c.b2 = lp[m + 3] * d(m + 1);
+  c.c1 = lp[m + 4] * (m * d(m + 2) - d(m + 1));
+  c.c2 = lp[m + 5] * ((m + 1) * d(m + 3) - d(m + 2));
+  return c;
 }
 
-// Omega as a jet of itself.
-JVec3 OmegaJet(const Vec3& omega) {
-  JVec3 o;
-  for (int k = 0; k < 3; ++k) o(k) = Jet(omega(k), Vec3::Unit(k));
-  return o;
+// d(A e3)/dOmega (3x3, column k for Omega_k) with A = a0 I + a1 W + a2 W^2:
+//   (W e3)(b1 Omega)^T - a1 [e3]x + (W^2 e3)(b2 Omega)^T - a2 ([W e3]x + W [e3]x),
+// from d(W v)/dOmega_k = e_k x v = -[v]x e_k.
+Mat3 ChordDerivative(const Vec3& omega, const Coefficients& c) {
+  const Vec3 e3(0.0, 0.0, 1.0);
+  const Mat3 w = Hat(omega);
+  const Vec3 we3 = omega.cross(e3);
+  const Vec3 w2e3 = omega.cross(we3);
+  const Mat3 hat_e3 = Hat(e3);
+  return (c.b1 * we3) * omega.transpose() - c.a1 * hat_e3 + (c.b2 * w2e3) * omega.transpose() -
+         c.a2 * (Hat(we3) + w * hat_e3);
 }
 
-// Rows are the derivatives of the components.
-Mat3 Jacobian(const JVec3& v) {
-  Mat3 j;
-  for (int k = 0; k < 3; ++k) j.row(k) = v(k).derivatives().transpose();
-  return j;
+// The Hessian in Omega of <X, A(Omega)> (X fixed), A = a0 I + a1 W + a2 W^2. With v = Vee(X),
+// <X, W> = Omega . v and <X, W^2> = Omega^T M Omega, M = sym(X) - tr(X) I (W^2 = Omega Omega^T -
+// |Omega|^2 I), so with rho = Omega^T M Omega:
+//   b1 (Omega v^T + v Omega^T) + (Omega . v)(b1 I + c1 Omega Omega^T)
+//   + rho (b2 I + c2 Omega Omega^T) + 2 b2 (Omega (M Omega)^T + (M Omega) Omega^T) + 2 a2 M.
+// Its gradient, a1 v + b1 (Omega . v) Omega + 2 a2 M Omega + b2 rho Omega, is HelixSegmentVjp's.
+Mat3 OwnHessian(const Vec3& omega, const Coefficients& c, const Mat3& x) {
+  const Vec3 v = Vee(x);
+  const Mat3 m = 0.5 * (x + x.transpose()) - x.trace() * Mat3::Identity();
+  const Vec3 m_omega = m * omega;
+  const double rho = omega.dot(m_omega);
+  const double ov = omega.dot(v);
+  const Mat3 oo = omega * omega.transpose();
+  Mat3 h = c.b1 * (omega * v.transpose() + v * omega.transpose()) + ov * c.c1 * oo +
+           rho * c.c2 * oo + (2.0 * c.b2) * (omega * m_omega.transpose() + m_omega * omega.transpose()) +
+           (2.0 * c.a2) * m;
+  h.diagonal().array() += ov * c.b1 + rho * c.b2;
+  return h;
+}
+
+// X = d e3^T, the cotangent matrix of a chord (A e3) with sensitivity d.
+Mat3 ChordCotangent(const Vec3& d) {
+  Mat3 x = Mat3::Zero();
+  x.col(2) = d;
+  return x;
 }
 
 // One segment of the forward sweep: start frame, closed forms and their first derivatives.
@@ -94,17 +145,17 @@ struct SegmentData {
   Mat3 rotation;       // R_i
   Vec3 chord;          // p_i (m)
   Vec3 moment;         // c_i (m^2)
-  Mat3 d_rotation[3];  // dR_i / dOmega_k
+  Mat3 jacobian;       // J_i: dR_i R_i^T = [J_i dOmega]x (local left Jacobian, m)
   Mat3 d_chord;        // column k: dp_i / dOmega_k
   Mat3 d_moment;       // column k: dc_i / dOmega_k
-  Jet g[7];            // jets of G_m(l_i |Omega_i|)
+  Coefficients coefficients[4];  // of A_1, A_2, A_3 (index m)
 };
 
 // One contact sample carrying a force (the same samples as ContactEnergy).
 struct SampleData {
   int segment;
   double u;     // arc length in the segment (m)
-  Jet g[7];     // jets of G_m(u |Omega_i|)
+  Coefficients coefficients;  // of A_2 over length u (the partial chord)
   Vec3 h;       // partial chord in the segment's start frame (m)
   Mat3 d_h;     // column k: dh / dOmega_k
   Vec3 y;       // position relative to the root (m)
@@ -135,8 +186,11 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
   const int m = model.contact.samples_per_segment;
   const double k_contact = obstacle ? model.ContactStiffness() : 0.0;
 
-  std::vector<SegmentData> segments(static_cast<size_t>(n));
-  std::vector<SampleData> samples;
+  // Scratch reused across calls on this thread (no allocation per Hessian once warm).
+  thread_local std::vector<SegmentData> segments;
+  thread_local std::vector<SampleData> samples;
+  segments.resize(static_cast<size_t>(n));
+  samples.clear();
 
   // Forward sweep (as in the gradient, energy.cpp): frames, positions relative to the root, the
   // twists S_i and the contact samples.
@@ -148,28 +202,26 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
     const Vec3 omega = curvatures.segment<3>(3 * i);
     SegmentData& s = segments[static_cast<size_t>(i)];
     s.frame = q;
-    FunctionJets(omega, l, s.g);
-    const JVec3 omega_jet = OmegaJet(omega);
-    JMat3 rotation;
-    JVec3 chord, moment;
-    internal::HelixSegmentFromFunctions<Jet>(omega_jet, l, s.g, &rotation, &chord, &moment);
-    for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) {
-        s.rotation(a, b) = rotation(a, b).value();
-        for (int k = 0; k < 3; ++k) s.d_rotation[k](a, b) = rotation(a, b).derivatives()(k);
-      }
-      s.chord(a) = chord(a).value();
-      s.moment(a) = moment(a).value();
-      s.d_chord.row(a) = chord(a).derivatives().transpose();
-      s.d_moment.row(a) = moment(a).derivatives().transpose();
-    }
-    // S_i: dQ_(i+1) Q_(i+1)^T = [omega]x with omega = Q_i Vee(dR R^T)/2 (dR R^T is skew), and
-    // the root-point velocity v = Q_i dp + r_(i+1) x omega (the end of the segment moves by
-    // Q_i dp, the rest rotates about it).
+    const HelixSegment helix = EvaluateHelixSegment(omega, l);  // values as in the gradient
+    s.rotation = helix.rotation;
+    s.chord = helix.chord;
+    s.moment = helix.moment;
+    double g[9];
+    HelixFunctions8(l * omega.norm(), g);
+    for (int mm = 1; mm <= 3; ++mm) s.coefficients[mm] = CoefficientsOf(mm, l, g);
+    // The rotation's left Jacobian: dR R^T = [J dOmega]x with J = l I + l^2 G2 W + l^3 G3 W^2
+    // (A_2, the integral of exp(u W) over the segment).
+    const Mat3 w = Hat(omega);
+    const Coefficients& c2 = s.coefficients[2];
+    const Mat3 jacobian = l * Mat3::Identity() + c2.a1 * w + c2.a2 * (w * w);
+    s.jacobian = jacobian;
+    s.d_chord = ChordDerivative(omega, s.coefficients[2]);
+    s.d_moment = ChordDerivative(omega, s.coefficients[3]);
+    // S_i: dQ_(i+1) Q_(i+1)^T = [omega]x with omega = Q_i J dOmega, and the root-point velocity
+    // v = Q_i dp + r_(i+1) x omega (the end of the segment moves by Q_i dp, the rest rotates
+    // about it).
     Mat63 twist;
-    for (int k = 0; k < 3; ++k) {
-      twist.block<3, 1>(0, k) = q * (0.5 * Vee(s.d_rotation[k] * s.rotation.transpose()));
-    }
+    twist.topRows<3>() = q * jacobian;
     const Vec3 r_next = r + q * s.chord;
     twist.bottomRows<3>() = q * s.d_chord + Hat(r_next) * twist.topRows<3>();
     hessian->twist[static_cast<size_t>(i)] = twist;
@@ -183,12 +235,11 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
           SampleData p;
           p.segment = i;
           p.u = (j + 1) * weight;
-          FunctionJets(omega, p.u, p.g);
-          const JVec3 h = internal::HelixChordT<Jet>(omega_jet, p.u, p.g);
-          for (int a = 0; a < 3; ++a) {
-            p.h(a) = h(a).value();
-            p.d_h.row(a) = h(a).derivatives().transpose();
-          }
+          p.h = HelixChordFromFunctions(omega, p.u, EvaluateHelixFunctions(omega.norm() * p.u));
+          double gu[9];
+          HelixFunctions8(omega.norm() * p.u, gu);
+          p.coefficients = CoefficientsOf(2, p.u, gu);
+          p.d_h = ChordDerivative(omega, p.coefficients);
           p.y = r + q * p.h;
           Vec3 normal;
           Mat3 distance_hessian;
@@ -210,6 +261,7 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
 
   // Reverse sweep: the adjoints of the gradient (r_bar = dE/dr_(i+1), q_bar = dE/dQ_(i+1), loads
   // held fixed) and Gamma, the contact stiffness of the samples downstream, in twist space.
+  hessian->translational = !samples.empty();
   Vec3 r_bar = Vec3::Zero();
   Mat3 q_bar = Mat3::Zero();
   Mat6 gamma = Mat6::Zero();
@@ -219,24 +271,31 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
     const double l = model.segment_lengths[static_cast<size_t>(i)];
     const Mat3 qt = s.frame.transpose();
     const Mat63& twist = hessian->twist[static_cast<size_t>(i)];
-    const JVec3 omega_jet = OmegaJet(curvatures.segment<3>(3 * i));
+    const Vec3 omega = curvatures.segment<3>(3 * i);
 
-    // The segment's own gradient as a jet of Omega_i, adjoints fixed (forward over reverse).
-    JVec3 own = internal::HelixSegmentVjpT<Jet>(omega_jet, l, s.g, qt * q_bar, qt * r_bar,
-                                                -(qt * f));
+    // The Jacobian of the segment's own gradient (HelixSegmentVjp), adjoints fixed.
+    Mat3 own = OwnHessian(omega, s.coefficients[1], qt * q_bar) +
+               OwnHessian(omega, s.coefficients[2], ChordCotangent(qt * r_bar)) +
+               OwnHessian(omega, s.coefficients[3], ChordCotangent(-(qt * f)));
     // dQbar_i/dOmega_k with the loads fixed (the update of q_bar below, differentiated).
+    // dR_k = [J e_k]x R, so q_bar dR_k^T = -(q_bar R^T) [J e_k]x.
+    const Mat3 q_bar_rt = q_bar * s.rotation.transpose();
     Mat3 dq_bar[3];
     for (int k = 0; k < 3; ++k) {
-      dq_bar[k] = q_bar * s.d_rotation[k].transpose() + r_bar * s.d_chord.col(k).transpose() -
+      dq_bar[k] = -(q_bar_rt * Hat(s.jacobian.col(k))) + r_bar * s.d_chord.col(k).transpose() -
                   f * s.d_moment.col(k).transpose();
     }
-    Mat3 d = twist.transpose() * gamma * twist;
-    Mat63 b = gamma * twist;
+    Mat63 b = Mat63::Zero();
+    Mat3 d = Mat3::Zero();
+    if (!samples.empty() && c + 1 < static_cast<int>(samples.size())) {  // Gamma != 0
+      b.noalias() = gamma * twist;
+      d.noalias() = twist.transpose() * b;
+    }
     Mat6 gamma_own = Mat6::Zero();
     const int last = c;
     for (; c >= 0 && samples[static_cast<size_t>(c)].segment == i; --c) {
       const SampleData& p = samples[static_cast<size_t>(c)];
-      own += internal::HelixChordVjpT<Jet>(omega_jet, p.u, p.g, qt * p.force);
+      own += OwnHessian(omega, p.coefficients, ChordCotangent(qt * p.force));
       const Mat3 jacobian = s.frame * p.d_h;  // dy/dOmega_i
       const Mat36 e = PointMotion(p.y);
       d += jacobian.transpose() * p.phi * jacobian;
@@ -244,7 +303,7 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
       gamma_own += e.transpose() * p.phi * e;
       for (int k = 0; k < 3; ++k) dq_bar[k] += p.force * p.d_h.col(k).transpose();
     }
-    d += Jacobian(own);
+    d += own;
     d.diagonal() += l * stiffness;  // elastic, eq. 3
     hessian->diagonal[static_cast<size_t>(i)] = 0.5 * (d + d.transpose());
     for (int k = 0; k < 3; ++k) b.block<3, 1>(0, k) += Vee(dq_bar[k] * s.frame.transpose());
@@ -309,31 +368,82 @@ void StrandHessian::Scale(const VecX& s) {
   }
 }
 
+namespace {
+
+// Cholesky of a symmetric 3x3 matrix and its inverse, by hand (Eigen's general triangular
+// solves cost more than the factorization here). Returns false unless every pivot is > 0.
+bool InvertPositiveDefinite3(const Mat3& a, Mat3* inverse) {
+  const double l00 = a(0, 0);
+  if (!(l00 > 0.0)) return false;
+  const double s00 = std::sqrt(l00);
+  const double l10 = a(1, 0) / s00, l20 = a(2, 0) / s00;
+  const double p11 = a(1, 1) - l10 * l10;
+  if (!(p11 > 0.0)) return false;
+  const double s11 = std::sqrt(p11);
+  const double l21 = (a(2, 1) - l20 * l10) / s11;
+  const double p22 = a(2, 2) - l20 * l20 - l21 * l21;
+  if (!(p22 > 0.0)) return false;
+  const double s22 = std::sqrt(p22);
+  // L^(-1) (lower triangular), then A^(-1) = L^(-T) L^(-1).
+  Mat3 li = Mat3::Zero();
+  li(0, 0) = 1.0 / s00;
+  li(1, 1) = 1.0 / s11;
+  li(2, 2) = 1.0 / s22;
+  li(1, 0) = -l10 * li(0, 0) / s11;
+  li(2, 1) = -l21 * li(1, 1) / s22;
+  li(2, 0) = -(l20 * li(0, 0) + l21 * li(1, 0)) / s22;
+  inverse->noalias() = li.transpose() * li;
+  return true;
+}
+
+}  // namespace
+
 bool StrandHessianFactor::Factor(const StrandHessian& hessian, double shift) {
   const int n = hessian.NumSegments();
   hessian_ = &hessian;
-  pivots_.resize(static_cast<size_t>(n));
+  inverses_.resize(static_cast<size_t>(n));
   reduced_load_.resize(static_cast<size_t>(n));
   failed_ = -1;
   // Eliminate from the tip: after eliminating the segments past k, the remaining blocks keep
   // the form S_a^T (B_b - C S_b) (a < b) and D_b - S_b^T C S_b, with
-  // C = sum over eliminated k of B'_k D'_k^(-1) B'_k^T (6 x 6).
+  // C = sum over eliminated k of B'_k D'_k^(-1) B'_k^T (6 x 6). Without contact the bottom
+  // rows of every B are zero, so C lives in its top-left 3 x 3 block: 4x less work.
+  if (!hessian.translational) {
+    Mat3 c = Mat3::Zero();
+    for (int k = n - 1; k >= 0; --k) {
+      const auto s = hessian.twist[static_cast<size_t>(k)].topRows<3>();
+      Mat63& b = reduced_load_[static_cast<size_t>(k)];
+      b.bottomRows<3>().setZero();
+      b.topRows<3>().noalias() = hessian.load[static_cast<size_t>(k)].topRows<3>() - c * s;
+      const Mat3 cs = c * s;
+      Mat3 d = hessian.diagonal[static_cast<size_t>(k)] - s.transpose() * cs;
+      d = 0.5 * (d + d.transpose());
+      d.diagonal().array() -= shift;
+      Mat3& inverse = inverses_[static_cast<size_t>(k)];
+      if (!InvertPositiveDefinite3(d, &inverse)) {
+        failed_ = k;
+        return false;
+      }
+      const Mat3 bt = b.topRows<3>();
+      c.noalias() += bt * (inverse * bt.transpose());
+      c = (0.5 * (c + c.transpose())).eval();
+    }
+    return true;
+  }
   Mat6 c = Mat6::Zero();
   for (int k = n - 1; k >= 0; --k) {
     const Mat63& s = hessian.twist[static_cast<size_t>(k)];
-    const Mat63 b = hessian.load[static_cast<size_t>(k)] - c * s;
+    Mat63& b = reduced_load_[static_cast<size_t>(k)];
+    b.noalias() = hessian.load[static_cast<size_t>(k)] - c * s;
     Mat3 d = hessian.diagonal[static_cast<size_t>(k)] - s.transpose() * c * s;
     d = 0.5 * (d + d.transpose());
     d.diagonal().array() -= shift;
-    Eigen::LLT<Mat3>& llt = pivots_[static_cast<size_t>(k)];
-    llt.compute(d);
-    if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 0.0)) {
+    Mat3& inverse = inverses_[static_cast<size_t>(k)];
+    if (!InvertPositiveDefinite3(d, &inverse)) {
       failed_ = k;
       return false;
     }
-    reduced_load_[static_cast<size_t>(k)] = b;
-    const Eigen::Matrix<double, 3, 6> w = llt.solve(b.transpose());  // D'^(-1) B'^T
-    c += b * w;
+    c.noalias() += b * (inverse * b.transpose());  // B' D'^(-1) B'^T
     c = (0.5 * (c + c.transpose())).eval();
   }
   return true;
@@ -349,15 +459,15 @@ void StrandHessianFactor::Solve(const VecX& rhs, VecX* x) const {
   Vec6 w = Vec6::Zero();
   for (int k = n - 1; k >= 0; --k) {
     const Vec3 y = rhs.segment<3>(3 * k) - hessian_->twist[static_cast<size_t>(k)].transpose() * w;
-    const Vec3 t = pivots_[static_cast<size_t>(k)].solve(y);
+    const Vec3 t = inverses_[static_cast<size_t>(k)] * y;
     x->segment<3>(3 * k) = t;
     w += reduced_load_[static_cast<size_t>(k)] * t;
   }
   // Then U^T z = t from the root: z_j = t_j - D'_j^(-1) B'_j^T sum over k < j of S_k z_k.
   Vec6 u = Vec6::Zero();
   for (int j = 0; j < n; ++j) {
-    const Vec3 z = x->segment<3>(3 * j) - pivots_[static_cast<size_t>(j)].solve(
-                                              reduced_load_[static_cast<size_t>(j)].transpose() * u);
+    const Vec3 z = x->segment<3>(3 * j) - inverses_[static_cast<size_t>(j)] *
+                                              (reduced_load_[static_cast<size_t>(j)].transpose() * u);
     x->segment<3>(3 * j) = z;
     u += hessian_->twist[static_cast<size_t>(j)] * z;
   }

@@ -24,6 +24,11 @@ constexpr double kStabilityTolerance = 1e-7;
 // iteration with the O(n) factorization, which needs no dense matrix at all.
 constexpr int kMaxDenseEigenUnknowns = 600;
 constexpr int kShiftedInverseIterations = 60;
+// Inverse-iteration steps for the smallest eigenvalue once positive definiteness is certified:
+// few in SolveStrand (the estimate is informative, the certificate is the factorization), more
+// in MinScaledHessianEigenvalue (asked for the value itself).
+constexpr int kCertificateInverseIterations = 4;
+constexpr int kReportedInverseIterations = 16;
 // Newton's shift, relative to the elastic part (the identity in scaled variables): the first
 // nonzero shift tried when H is not positive definite, then multiplied by 10.
 constexpr double kNewtonFirstShift = 1e-4;
@@ -121,8 +126,8 @@ class ScaledStrandObjective final : public internal::Objective {
 // O(n). Only when the factorization fails is the mode along which to leave the unstable
 // equilibrium computed: by a dense eigensolver for small strands, by shifted inverse iteration
 // (a shift below lambda_min found by doubling, then the O(n) solve) for long ones.
-double MinEigen(ScaledStrandObjective& objective, const VecX& x, VecX* vector,
-                int* hessian_evaluations) {
+double MinEigen(ScaledStrandObjective& objective, const VecX& x, int inverse_iterations,
+                VecX* vector, int* hessian_evaluations) {
   StrandHessian hessian;
   objective.ScaledHessian(x, &hessian);
   ++*hessian_evaluations;
@@ -130,7 +135,7 @@ double MinEigen(ScaledStrandObjective& objective, const VecX& x, VecX* vector,
   StrandHessianFactor factor;
   VecX v = VecX::Ones(n) / std::sqrt(static_cast<double>(n)), w;
   if (factor.Factor(hessian, kStabilityTolerance)) {
-    for (int k = 0; k < 8; ++k) {
+    for (int k = 0; k < inverse_iterations; ++k) {
       factor.Solve(v, &w);
       v = w.normalized();
     }
@@ -191,7 +196,7 @@ double MinScaledHessianEigenvalue(const StrandModel& model, const VecX& curvatur
   ScaledStrandObjective objective(model);
   int hessians = 0;
   VecX v;
-  const double lambda = MinEigen(objective, objective.ToScaled(curvatures), &v, &hessians);
+  const double lambda = MinEigen(objective, objective.ToScaled(curvatures), kReportedInverseIterations, &v, &hessians);
   if (direction) *direction = v.cwiseQuotient(objective.scale());
   return lambda;
 }
@@ -219,7 +224,8 @@ StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options
     // Stability: the smallest eigenvalue of the scaled Hessian (1 = unloaded elastic rod).
     VecX mode;
     summary.stability_checked = true;
-    summary.min_eigenvalue = MinEigen(objective, x, &mode, &summary.hessian_evaluations);
+    summary.min_eigenvalue = MinEigen(objective, x, kCertificateInverseIterations, &mode,
+                                      &summary.hessian_evaluations);
     if (!(summary.min_eigenvalue < -kStabilityTolerance)) break;
     if (summary.stability_restarts >= options.max_stability_restarts) {
       summary.message = "converged to an unstable equilibrium (negative Hessian eigenvalue " +
