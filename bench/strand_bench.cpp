@@ -154,17 +154,17 @@ void BM_HeavyCurly(benchmark::State& state) {
 }
 BENCHMARK(BM_HeavyCurly<Method::kLbfgs>)
     ->Name("BM_HeavyCurly/lbfgs")
-    ->ArgsProduct({{600, 900}, {30, 60}})
+    ->ArgsProduct({{300, 450, 600, 900}, {30, 60}})
     ->ArgNames({"L_mm", "n"})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_HeavyCurly<Method::kNewton>)
     ->Name("BM_HeavyCurly/newton")
-    ->ArgsProduct({{600, 900}, {30, 60}})
+    ->ArgsProduct({{300, 450, 600, 900}, {30, 60}})
     ->ArgNames({"L_mm", "n"})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_HeavyCurly<Method::kBfgs>)
     ->Name("BM_HeavyCurly/bfgs")
-    ->ArgsProduct({{600, 900}, {30, 60}})
+    ->ArgsProduct({{300, 450, 600, 900}, {30, 60}})
     ->ArgNames({"L_mm", "n"})
     ->Unit(benchmark::kMicrosecond);
 

@@ -112,10 +112,12 @@ TEST(HairstyleJson, WavyExampleFieldsArriveInTheHairstyle) {
 TEST(HairstyleJson, Defaults) {
   const Hairstyle s = MustParse(kMinimal);
   const Hairstyle d;  // the struct's defaults
-  // The solver of a hairstyle is GroomSolveOptions: tolerance 1e-6, no stability check.
+  // The solver of a hairstyle is GroomSolveOptions: tolerance 1e-6, the automatic method,
+  // the stability certificate on.
   const SolveOptions g = GroomSolveOptions();
   EXPECT_EQ(g.tolerance, 1e-6);
-  EXPECT_FALSE(g.check_stability);
+  EXPECT_TRUE(g.check_stability);
+  EXPECT_EQ(g.method, Method::kAuto);
   EXPECT_EQ(s.solver.method, g.method);
   EXPECT_EQ(s.solver.tolerance, g.tolerance);
   EXPECT_EQ(s.solver.max_iterations, g.max_iterations);

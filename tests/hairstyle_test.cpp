@@ -330,12 +330,14 @@ TEST(GroomHairstyle, CountsAndConvergence) {
   EXPECT_EQ(g.strands.NumPoints(), g.summary.points);
   EXPECT_EQ(g.summary.converged, masters);
   EXPECT_EQ(g.summary.unconverged, 0);
-  EXPECT_EQ(g.summary.unstable, 0);  // stability is not checked by default: none is counted
+  EXPECT_EQ(g.summary.unstable, 0);  // every master certified stable (checked by default)
   long iterations = 0;
   for (const StrandSolution& s : g.solutions) {
     EXPECT_TRUE(s.summary.Converged()) << s.summary.message;
     EXPECT_LE(s.summary.residual, style.solver.tolerance);
-    EXPECT_FALSE(s.summary.stability_checked);
+    EXPECT_TRUE(s.summary.stability_checked);
+    EXPECT_TRUE(s.summary.stable) << "min eigenvalue " << s.summary.min_eigenvalue;
+    EXPECT_GT(s.summary.min_eigenvalue, 0.0);
     iterations += s.summary.iterations;
   }
   EXPECT_EQ(g.summary.iterations, iterations);

@@ -4,10 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
 #include <numbers>
 
 #include "ringlet/strand_geometry.h"
+#include "ringlet/strand_hessian.h"
 #include "test_util.h"
 
 namespace ringlet {
@@ -184,6 +187,60 @@ TEST(Statics, MinimizersAgree) {
   EXPECT_LT(energies[0], natural - 0.1 * std::abs(natural));
   EXPECT_NEAR(energies[1], energies[0], 1e-12 * std::abs(energies[0]));
   EXPECT_NEAR(energies[2], energies[0], 1e-12 * std::abs(energies[0]));
+}
+
+// Heavy curly hair (w L^3 / EI = 2040 L^3 for this section: 1488 at 0.9 m): Newton with the exact
+// Hessian reaches the equilibrium L-BFGS reaches, in far fewer iterations; kAuto picks Newton
+// here and L-BFGS for light strands (bit-identical to an explicit L-BFGS solve there).
+TEST(Statics, HeavyStrandsNewtonAgreesWithLbfgsAndAutoPicksIt) {
+  StrandModel m = MakeStrand(0.9, 30, 0.0, Vec3(50.0, 0.0, 10.0), HorizontalFrame());
+  m.segment_lengths = GradedSegments(0.9, 30, RecommendedGradingRatio(m.GravityParameter()));
+  ASSERT_GT(m.GravityParameter(), kAutoNewtonLoad);
+  EXPECT_EQ(ResolveMethod(Method::kAuto, m), Method::kNewton);
+  SolveOptions lbfgs, newton, automatic;
+  lbfgs.method = Method::kLbfgs;
+  newton.method = Method::kNewton;
+  const StrandSolution a = SolveStrand(m, lbfgs);
+  const StrandSolution b = SolveStrand(m, newton);
+  const StrandSolution c = SolveStrand(m, automatic);
+  ASSERT_TRUE(a.summary.Converged() && b.summary.Converged()) << b.summary.message;
+  EXPECT_TRUE(a.summary.stable && b.summary.stable);
+  EXPECT_NEAR(b.summary.energy.total, a.summary.energy.total, 1e-10 * std::abs(a.summary.energy.total));
+  const StrandGeometry ga = ComputeGeometry(m, a.curvatures), gb = ComputeGeometry(m, b.curvatures);
+  EXPECT_LT((ga.points.back() - gb.points.back()).norm(), 1e-6 * m.Length());
+  EXPECT_LT(3 * b.summary.iterations, a.summary.iterations);
+  EXPECT_GT(b.summary.hessian_evaluations, 0);
+  EXPECT_EQ(c.curvatures, b.curvatures);
+
+  const StrandModel light = MakeStrand(0.2, 15, 0.3, Vec3(50.0, 0.0, 10.0), HorizontalFrame());
+  ASSERT_LT(light.GravityParameter(), kAutoNewtonLoad);
+  EXPECT_EQ(ResolveMethod(Method::kAuto, light), Method::kLbfgs);
+  EXPECT_EQ(SolveStrand(light, automatic).curvatures, SolveStrand(light, lbfgs).curvatures);
+}
+
+// The certificate's reported eigenvalue is an inverse-iteration estimate from above of the
+// smallest eigenvalue of the scaled exact Hessian, checked against a dense eigensolver of the
+// same matrix scaled independently here (x = sqrt(l K) (q - q0)).
+TEST(Statics, CertificateEigenvalueBoundsTheDenseOne) {
+  StrandModel m = MakeStrand(0.6, 25, 0.5, Vec3(40.0, 5.0, 10.0), HorizontalFrame());
+  SolveOptions lbfgs;  // one Hessian: the certificate's (Newton would add one per step)
+  lbfgs.method = Method::kLbfgs;
+  const StrandSolution s = SolveStrand(m, lbfgs);
+  ASSERT_TRUE(s.summary.Converged() && s.summary.stability_checked);
+  StrandHessian h;
+  ComputeStrandHessian(m, s.curvatures, &h);
+  VecX scale(75);
+  for (int i = 0; i < 25; ++i) {
+    scale.segment<3>(3 * i) = (m.segment_lengths[static_cast<size_t>(i)] * m.Stiffness()).cwiseSqrt();
+  }
+  const MatX scaled = scale.cwiseInverse().asDiagonal() * h.Dense() * scale.cwiseInverse().asDiagonal();
+  const double lambda = Eigen::SelfAdjointEigenSolver<MatX>(scaled).eigenvalues()(0);
+  ASSERT_GT(lambda, 0.0);
+  EXPECT_LT(lambda, 0.9);  // anti-vacuity: gravity changes the unloaded value 1
+  EXPECT_GE(s.summary.min_eigenvalue, lambda * (1.0 - 1e-9));
+  EXPECT_LE(s.summary.min_eigenvalue, lambda * 1.05);
+  EXPECT_NEAR(MinScaledHessianEigenvalue(m, s.curvatures), lambda, 1e-6 * lambda);
+  EXPECT_EQ(s.summary.hessian_evaluations, 1);
 }
 
 // A warm start at the equilibrium needs no iteration; a perturbed equilibrium is caught by the

@@ -43,7 +43,7 @@ bool ParseSceneText(const std::string& text, Scene* scene, std::string* error);
 /// ("scene.json: strands[0].length: missing required field ..."). Never throws.
 bool LoadScene(const std::string& path, Scene* scene, std::string* error);
 
-/// The name of a minimization method in scene files: "bfgs", "lbfgs" or "newton".
+/// The name of a minimization method in scene files: "bfgs", "lbfgs", "newton" or "auto".
 const char* MethodName(Method method);
 
 }  // namespace ringlet

@@ -18,6 +18,9 @@ enum class Method {
   kBfgs,    ///< dense BFGS with a strong-Wolfe line search (modern form of the paper's DFP [FP63])
   kLbfgs,   ///< limited-memory BFGS (10 pairs): O(n) per iteration instead of O(n^2)
   kNewton,  ///< Newton with the exact Hessian (strand_hessian.h, O(n) per step), shifted when needed
+  /// L-BFGS for light strands, Newton for heavy ones (GravityParameter >= kAutoNewtonLoad): the
+  /// faster of the two on each side of the crossover measured in docs/benchmarks.md.
+  kAuto,
 };
 
 /// Why the minimizer stopped.
@@ -31,11 +34,19 @@ enum class Termination {
 /// "converged", "max_iterations", "line_search_failed" or "non_finite".
 const char* TerminationName(Termination termination);
 
+/// The load w L^3 / (E I1) from which Method::kAuto uses Newton: on curly 20-60-cm strands
+/// L-BFGS is 1.6x faster at 55, even at 186, and Newton 1.3x faster at 441 and 3.4x at 1488
+/// (docs/benchmarks.md, "Heavy strands by method").
+inline constexpr double kAutoNewtonLoad = 300.0;
+
+/// The method kAuto resolves to for this model (kLbfgs or kNewton); other methods unchanged.
+Method ResolveMethod(Method method, const StrandModel& model);
+
 /// Options of SolveStrand.
 struct SolveOptions {
-  /// L-BFGS by default: same iterations as dense BFGS on hair (< 10 pairs needed), 2-6x faster
-  /// (docs/benchmarks.md).
-  Method method = Method::kLbfgs;
+  /// kAuto by default: L-BFGS (same iterations as dense BFGS on light hair, 2-6x faster) below
+  /// kAutoNewtonLoad, Newton with the exact Hessian above (docs/benchmarks.md).
+  Method method = Method::kAuto;
   /// Iteration budget of one minimization (each stability restart gets its own).
   int max_iterations = 1000;
   /// Convergence tolerance on the dimensionless equilibrium residual (EquilibriumResidual).

@@ -24,7 +24,7 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 SolveOptions GroomSolveOptions() {
   SolveOptions options;
   options.tolerance = 1e-6;
-  options.check_stability = false;
+  options.check_stability = true;
   return options;
 }
 

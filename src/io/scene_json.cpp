@@ -38,6 +38,7 @@ constexpr MethodEntry kMethods[] = {
     {"bfgs", Method::kBfgs},
     {"lbfgs", Method::kLbfgs},
     {"newton", Method::kNewton},
+    {"auto", Method::kAuto},
 };
 
 // ---------------------------------------------------------------------------------------------

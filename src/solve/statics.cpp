@@ -165,6 +165,11 @@ double MinEigen(ScaledStrandObjective& objective, const VecX& x, int inverse_ite
 
 }  // namespace
 
+Method ResolveMethod(Method method, const StrandModel& model) {
+  if (method != Method::kAuto) return method;
+  return model.GravityParameter() >= kAutoNewtonLoad ? Method::kNewton : Method::kLbfgs;
+}
+
 const char* TerminationName(Termination termination) {
   switch (termination) {
     case Termination::kConverged: return "converged";
@@ -207,7 +212,7 @@ StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options
   VecX x = initial_curvatures ? objective.ToScaled(*initial_curvatures)
                               : VecX::Zero(objective.Dimension());
   internal::MinimizerOptions minimizer_options;
-  minimizer_options.method = options.method;
+  minimizer_options.method = ResolveMethod(options.method, model);
   minimizer_options.max_iterations = options.max_iterations;
   minimizer_options.tolerance = options.tolerance;
 
