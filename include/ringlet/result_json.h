@@ -56,8 +56,10 @@ ResultCounts CountResults(const std::vector<StrandResult>& strands);
 nlohmann::ordered_json ResultToJson(const std::vector<StrandResult>& strands, double seconds);
 
 /// ResultToJson as text, indented by two spaces with arrays of numbers (points, curvature
-/// triples, segment lengths) on one line, ending with a newline. Numbers keep full precision
-/// (they read back bit-identical).
+/// triples, segment lengths) on one line, ending with a newline. Written directly, without
+/// building the json tree: the same JSON value as ResultToJson(strands, seconds), at a tenth of
+/// the cost. Numbers are the shortest decimals that read back bit-identical (std::to_chars),
+/// always with a fraction or an exponent ("0.0", "1e-07"); NaN and infinities are null.
 std::string ResultToString(const std::vector<StrandResult>& strands, double seconds);
 
 }  // namespace ringlet
