@@ -372,6 +372,32 @@ TEST(ResultWriter, EveryNumberFieldRoundTripsBitExactly) {
   ExpectSameDocument(results, seconds, "hard doubles");
 }
 
+// MakeStrandResults: the results of MakeStrandResult strand by strand, bit for bit, on any number
+// of threads.
+TEST(ResultWriter, MakeStrandResultsIsIndependentOfThreads) {
+  Scene scene;
+  std::string error;
+  ASSERT_TRUE(LoadScene(std::string(RINGLET_EXAMPLES_DIR) + "/strands.json", &scene, &error));
+  std::vector<StrandModel> models;
+  for (int copy = 0; copy < 8; ++copy) {
+    models.insert(models.end(), scene.strands.begin(), scene.strands.end());
+  }
+  std::vector<StrandSolution> solutions;
+  for (const StrandModel& model : models) solutions.push_back(SolveStrand(model, scene.solver));
+  std::vector<StrandResult> sequential;
+  for (size_t i = 0; i < models.size(); ++i) {
+    sequential.push_back(MakeStrandResult(models[i], solutions[i], 2));
+  }
+  const std::string expected = ResultToString(sequential, 1.0);
+  for (int threads : {1, 2, 4, 0}) {
+    const std::vector<StrandResult> parallel = MakeStrandResults(models, solutions, 2, threads);
+    ASSERT_EQ(parallel.size(), models.size());
+    EXPECT_EQ(ResultToString(parallel, 1.0), expected) << threads << " threads";
+  }
+  // Anti-vacuity: the strands differ, so a mix-up of their order would show.
+  EXPECT_NE(sequential[0].points.back(), sequential[1].points.back());
+}
+
 // The layout of docs/scene-format.md: two-space indentation, a point or a curvature triple per
 // line, the segment lengths on one line.
 TEST(ResultWriter, LayoutKeepsNumberArraysOnOneLine) {

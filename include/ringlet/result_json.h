@@ -39,6 +39,15 @@ struct StrandResult {
 StrandResult MakeStrandResult(const StrandModel& model, const StrandSolution& solution,
                               int points_per_segment);
 
+/// MakeStrandResult of every strand: results[i] that of models[i] and solutions[i] (same sizes),
+/// computed in parallel across strands on `threads` worker threads (0: all hardware threads).
+/// The results do not depend on the thread count. The Kirchhoff certificate in each result costs
+/// about half a solve without the stability check (docs/benchmarks.md, "CLI overhead"), hence
+/// the threads.
+std::vector<StrandResult> MakeStrandResults(const std::vector<StrandModel>& models,
+                                            const std::vector<StrandSolution>& solutions,
+                                            int points_per_segment, int threads = 0);
+
 /// Counts over all strands of a scene.
 struct ResultCounts {
   int strands = 0;    ///< number of strands

@@ -1,6 +1,10 @@
 // Result files: solved strands -> JSON (docs/scene-format.md, "Result format").
 #include "ringlet/result_json.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -217,6 +221,24 @@ StrandResult MakeStrandResult(const StrandModel& model, const StrandSolution& so
   }
   if (s.termination == Termination::kNonFinite) s.stable = false;
   return result;
+}
+
+std::vector<StrandResult> MakeStrandResults(const std::vector<StrandModel>& models,
+                                            const std::vector<StrandSolution>& solutions,
+                                            int points_per_segment, int threads) {
+  assert(models.size() == solutions.size());
+  std::vector<StrandResult> results(models.size());
+  const int total = static_cast<int>(models.size());
+  // Each result depends on its strand alone, so any split gives the same results.
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, total), [&](const tbb::blocked_range<int>& r) {
+      for (int i = r.begin(); i < r.end(); ++i) {
+        results[i] = MakeStrandResult(models[i], solutions[i], points_per_segment);
+      }
+    });
+  });
+  return results;
 }
 
 ResultCounts CountResults(const std::vector<StrandResult>& strands) {
