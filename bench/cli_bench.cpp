@@ -107,6 +107,17 @@ void BM_ParseScene(benchmark::State& state) {
 }
 BENCHMARK(BM_ParseScene)->Unit(benchmark::kMillisecond);
 
+// The JSON syntax alone (nlohmann's parse, no duplicate check, no field checks), for comparison.
+void BM_ParseJsonOnly(benchmark::State& state) {
+  const std::string text = ManyStrandsText(kStrands, false);
+  for (auto _ : state) {
+    const nlohmann::json document = nlohmann::json::parse(text);
+    benchmark::DoNotOptimize(&document);
+  }
+  PerStrand(state, kStrands);
+}
+BENCHMARK(BM_ParseJsonOnly)->Unit(benchmark::kMillisecond);
+
 // Stage 2 is BM_LibrarySolveStrand. Stage 3: MakeStrandResult (centreline samples, the Kirchhoff
 // certificate, the non-finite rule), and its two costly parts alone.
 void BM_MakeStrandResult(benchmark::State& state) {
