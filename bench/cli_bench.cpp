@@ -19,6 +19,7 @@
 #include "ringlet/kirchhoff.h"
 #include "ringlet/result_json.h"
 #include "ringlet/scene_json.h"
+#include "ringlet/solve_strands.h"
 #include "ringlet/statics.h"
 #include "ringlet/strand_geometry.h"
 
@@ -203,6 +204,28 @@ void BM_WriteFileAtomically(benchmark::State& state) {
   PerStrand(state, kStrands);
 }
 BENCHMARK(BM_WriteFileAtomically)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// All the stages in one process, as `ringlet solve --threads 1 --quiet` runs them on the scene
+// text (scene file read and process start-up excluded): what the stages above should add up to.
+void BM_SolvePipeline(benchmark::State& state) {
+  const std::string text = ManyStrandsText(kStrands, state.range(0) != 0);
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "ringlet_cli_bench_pipeline.json").string();
+  BatchOptions batch;
+  batch.threads = 1;
+  for (auto _ : state) {
+    const Scene scene = MustParse(text);
+    const std::vector<StrandSolution> solutions = SolveStrands(scene.strands, scene.solver, batch);
+    const std::vector<StrandResult> results = MakeStrandResults(scene.strands, solutions, 1, 1);
+    std::string error;
+    if (!WriteFileAtomically(path, ResultToString(results, 1.0), true, &error)) {
+      state.SkipWithError(error.c_str());
+    }
+  }
+  std::filesystem::remove(path);
+  PerStrand(state, kStrands);
+}
+BENCHMARK(BM_SolvePipeline)->ArgName("stability")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace ringlet
