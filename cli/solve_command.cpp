@@ -103,11 +103,8 @@ int RunSolve(const SolveArgs& args) {
   batch.progress = [&bar](int done, int total) { bar.Update(done, total); };
   const std::vector<StrandSolution> solutions = SolveStrands(scene.strands, scene.solver, batch);
   bar.Finish();
-  std::vector<StrandResult> results;
-  results.reserve(scene.strands.size());
-  for (size_t i = 0; i < solutions.size(); ++i) {
-    results.push_back(MakeStrandResult(scene.strands[i], solutions[i], args.points_per_segment));
-  }
+  const std::vector<StrandResult> results =
+      MakeStrandResults(scene.strands, solutions, args.points_per_segment, args.threads);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "io/json_reader.h"
 #include "ringlet/atomic_file.h"
 #include "ringlet/result_json.h"
 #include "ringlet/statics.h"
@@ -210,8 +211,8 @@ TEST(SceneJson, AutoGradingUsesTheLoad) {
   const double r = 50e-6, pi = std::acos(-1.0);
   const double load = 1300 * pi * r * r * 9.81 * 0.125 / (10e9 * pi * r * r * r * r / 4);
   EXPECT_NEAR(load, 255.06, 0.01);  // 4 rho g L^3 / (E r^2): a heavy hair, grading matters
-  EXPECT_NEAR(m.segment_lengths.back() / m.segment_lengths.front(),
-              RecommendedGradingRatio(load), 1e-9 * RecommendedGradingRatio(load));
+  EXPECT_NEAR(m.segment_lengths.back() / m.segment_lengths.front(), RecommendedGradingRatio(load),
+              1e-9 * RecommendedGradingRatio(load));
   EXPECT_GT(m.segment_lengths.back() / m.segment_lengths.front(), 30.0);
   EXPECT_NEAR(m.Length(), 0.5, 1e-15);
 }
@@ -432,10 +433,7 @@ std::vector<BadScene> BadScenes() {
          d["solver"] = {{"max_iterations", 1.5}};
        },
        "solver.max_iterations"},
-      {"GradingUnknownWord",
-       [](json& d) {
-         d["strands"][0]["grading"] = "automatic";
-       },
+      {"GradingUnknownWord", [](json& d) { d["strands"][0]["grading"] = "automatic"; },
        "strands[0].grading"},
       {"StabilityString",
        [](json& d) {
@@ -550,6 +548,28 @@ TEST(SceneJsonText, DuplicateInLaterArrayElementIsLocated) {
   std::string error;
   ASSERT_FALSE(ParseSceneText(text, &scene, &error));
   EXPECT_NE(error.find("strands[1].root.tangent: duplicate field"), std::string::npos) << error;
+}
+
+// The duplicate finder reuses its per-depth frames from one object to the next and switches from
+// a linear search to a set beyond a few dozen keys: neither may leak keys between sibling objects
+// nor miss a duplicate among many keys.
+TEST(SceneJsonText, DuplicatesAmongManyKeysAndSiblingObjects) {
+  json document;
+  std::string error;
+  // Sibling objects (same depth) with the same keys are fine, also after an unrelated object.
+  EXPECT_TRUE(internal::ParseJsonText(
+      R"([{"a": 1, "b": {"x": 1}}, {"a": 2, "b": {"x": 2, "y": 3}}, {"b": 0, "a": 1}])", &document,
+      &error))
+      << error;
+  // Many keys: every one distinct is fine, a repeat of an early one after the 40th is found.
+  std::string many = "{";
+  for (int i = 0; i < 50; ++i) many += (i ? ", \"k" : "\"k") + std::to_string(i) + "\": 0";
+  EXPECT_TRUE(internal::ParseJsonText(many + "}", &document, &error)) << error;
+  EXPECT_FALSE(internal::ParseJsonText(many + ", \"k3\": 1}", &document, &error));
+  EXPECT_NE(error.find("k3: duplicate field"), std::string::npos) << error;
+  // And again in a later sibling, after a frame was reused with many keys.
+  EXPECT_FALSE(internal::ParseJsonText("[" + many + "}, {\"a\": 1, \"a\": 2}]", &document, &error));
+  EXPECT_NE(error.find("[1].a: duplicate field"), std::string::npos) << error;
 }
 
 TEST(SceneJsonText, ValidTextParses) {

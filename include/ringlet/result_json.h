@@ -39,6 +39,15 @@ struct StrandResult {
 StrandResult MakeStrandResult(const StrandModel& model, const StrandSolution& solution,
                               int points_per_segment);
 
+/// MakeStrandResult of every strand: results[i] that of models[i] and solutions[i] (same sizes),
+/// computed in parallel across strands on `threads` worker threads (0: all hardware threads).
+/// The results do not depend on the thread count. The Kirchhoff certificate in each result costs
+/// about half a solve without the stability check (docs/benchmarks.md, "CLI overhead"), hence
+/// the threads.
+std::vector<StrandResult> MakeStrandResults(const std::vector<StrandModel>& models,
+                                            const std::vector<StrandSolution>& solutions,
+                                            int points_per_segment, int threads = 0);
+
 /// Counts over all strands of a scene.
 struct ResultCounts {
   int strands = 0;    ///< number of strands
@@ -56,8 +65,10 @@ ResultCounts CountResults(const std::vector<StrandResult>& strands);
 nlohmann::ordered_json ResultToJson(const std::vector<StrandResult>& strands, double seconds);
 
 /// ResultToJson as text, indented by two spaces with arrays of numbers (points, curvature
-/// triples, segment lengths) on one line, ending with a newline. Numbers keep full precision
-/// (they read back bit-identical).
+/// triples, segment lengths) on one line, ending with a newline. Written directly, without
+/// building the json tree: the same JSON value as ResultToJson(strands, seconds), at a tenth of
+/// the cost. Numbers are the shortest decimals that read back bit-identical (std::to_chars),
+/// always with a fraction or an exponent ("0.0", "1e-07"); NaN and infinities are null.
 std::string ResultToString(const std::vector<StrandResult>& strands, double seconds);
 
 }  // namespace ringlet

@@ -1,6 +1,7 @@
 // Reading JSON documents with one-line errors that name the field.
 #include "io/json_reader.h"
 
+#include <algorithm>
 #include <set>
 #include <utility>
 
@@ -8,28 +9,30 @@ namespace ringlet::internal {
 namespace {
 
 // The path of the first duplicate member in a document, found while parsing (nlohmann keeps the
-// last of duplicate members silently; a scene must not).
+// last of duplicate members silently; a scene must not). Called for every token of a scene, so
+// it allocates little: frames are reused from one object to the next, and an object's keys are
+// searched linearly while they are few (a strand has at most 15) and in a set beyond that.
 class DuplicateFinder {
  public:
   bool OnEvent(json::parse_event_t event, const json& parsed) {
     switch (event) {
       case json::parse_event_t::object_start:
         BeginElement();
-        stack_.push_back(Frame{false, 0, {}, {}});
+        Push(false);
         break;
       case json::parse_event_t::array_start:
         BeginElement();
-        stack_.push_back(Frame{true, 0, {}, {}});
+        Push(true);
         break;
       case json::parse_event_t::object_end:
       case json::parse_event_t::array_end:
-        if (!stack_.empty()) stack_.pop_back();
+        if (depth_ > 0) --depth_;
         break;
       case json::parse_event_t::key:
-        if (!stack_.empty() && parsed.is_string()) {
-          Frame& top = stack_.back();
-          top.key = parsed.get<std::string>();
-          if (!top.keys.insert(top.key).second && duplicate_.empty()) duplicate_ = Path();
+        if (depth_ > 0 && parsed.is_string()) {
+          Frame& top = stack_[depth_ - 1];
+          top.key = parsed.get_ref<const std::string&>();
+          if (!top.Insert(top.key) && duplicate_.empty()) duplicate_ = Path();
         }
         break;
       case json::parse_event_t::value:
@@ -46,9 +49,9 @@ class DuplicateFinder {
   // or the next element of an array.
   std::string PendingPath() const {
     std::string path;
-    for (size_t i = 0; i < stack_.size(); ++i) {
+    for (size_t i = 0; i < depth_; ++i) {
       const Frame& frame = stack_[i];
-      const bool last = i + 1 == stack_.size();
+      const bool last = i + 1 == depth_;
       path = frame.is_array ? Element(path, frame.next_index - (last ? 0 : 1))
                             : Member(path, frame.key);
     }
@@ -56,26 +59,56 @@ class DuplicateFinder {
   }
 
  private:
+  // Keys of an object searched one by one up to this many, then in a set.
+  static constexpr size_t kLinearKeys = 32;
+
   struct Frame {
-    bool is_array;
-    size_t next_index;  // arrays: index of the next element
-    std::string key;    // objects: the current member
-    std::set<std::string> keys;
+    bool is_array = false;
+    size_t next_index = 0;          // arrays: index of the next element
+    std::string key;                // objects: the current member
+    std::vector<std::string> keys;  // objects: the members so far, while few
+    std::set<std::string> many;     // objects: all members, once there are many
+
+    // Records key; false when the object already has it.
+    bool Insert(const std::string& k) {
+      if (many.empty()) {
+        if (std::find(keys.begin(), keys.end(), k) != keys.end()) return false;
+        if (keys.size() < kLinearKeys) {
+          keys.push_back(k);
+          return true;
+        }
+        many.insert(keys.begin(), keys.end());
+        keys.clear();
+      }
+      return many.insert(k).second;
+    }
   };
 
+  void Push(bool is_array) {
+    if (depth_ == stack_.size()) stack_.emplace_back();
+    Frame& frame = stack_[depth_++];
+    frame.is_array = is_array;
+    frame.next_index = 0;
+    frame.key.clear();
+    frame.keys.clear();  // keeps the capacity for the next object at this depth
+    frame.many.clear();
+  }
+
   void BeginElement() {
-    if (!stack_.empty() && stack_.back().is_array) ++stack_.back().next_index;
+    if (depth_ > 0 && stack_[depth_ - 1].is_array) ++stack_[depth_ - 1].next_index;
   }
 
   std::string Path() const {
     std::string path;
-    for (const Frame& frame : stack_) {
+    for (size_t i = 0; i < depth_; ++i) {
+      const Frame& frame = stack_[i];
       path = frame.is_array ? Element(path, frame.next_index - 1) : Member(path, frame.key);
     }
     return path;
   }
 
-  std::vector<Frame> stack_;
+  std::vector<Frame> stack_;  // frames [0, depth_) are open; later ones are kept for reuse
+  size_t depth_ = 0;
   std::string duplicate_;
 };
 

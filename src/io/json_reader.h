@@ -26,7 +26,6 @@ constexpr size_t kMaxMessage = 200;
 // Unknown fields this close (edit distance) to a known one get a "did you mean" hint.
 constexpr size_t kSuggestionDistance = 2;
 
-
 // Keys made of letters, digits and underscores are shown bare; others are quoted.
 bool IsPlainKey(const std::string& key);
 // The path of a member: "strands[0]" + "radius" -> "strands[0].radius"; odd keys are quoted
@@ -96,14 +95,16 @@ class Reader {
                   const NumberRule& rule, bool required, double* out, bool* present = nullptr) {
     if (present) *present = false;
     const auto it = object.find(key);
-    const std::string field = Member(path, key);
+    // The field's path is built only for a message: the valid case allocates nothing.
     if (it == object.end()) {
-      if (required) return Missing(field, rule.expected);
+      if (required) return Missing(Member(path, key), rule.expected);
       return true;
     }
-    if (!it->is_number()) return Expected(field, rule.expected, *it);
+    if (!it->is_number()) return Expected(Member(path, key), rule.expected, *it);
     const double x = it->get<double>();
-    if (!std::isfinite(x) || !rule.accepts(x)) return Expected(field, rule.expected, *it);
+    if (!std::isfinite(x) || !rule.accepts(x)) {
+      return Expected(Member(path, key), rule.expected, *it);
+    }
     *out = x;
     if (present) *present = true;
     return true;
@@ -114,14 +115,14 @@ class Reader {
                    int* out, bool* present = nullptr) {
     if (present) *present = false;
     const auto it = object.find(key);
-    const std::string field = Member(path, key);
-    const std::string expected =
-        "an integer between " + std::to_string(min) + " and " + std::to_string(max);
+    const auto expected = [&] {
+      return "an integer between " + std::to_string(min) + " and " + std::to_string(max);
+    };
     if (it == object.end()) return true;
-    if (!it->is_number()) return Expected(field, expected, *it);
+    if (!it->is_number()) return Expected(Member(path, key), expected(), *it);
     const double x = it->get<double>();
     if (!std::isfinite(x) || x != std::floor(x) || x < min || x > max) {
-      return Expected(field, expected, *it);
+      return Expected(Member(path, key), expected(), *it);
     }
     *out = static_cast<int>(x);
     if (present) *present = true;
@@ -141,22 +142,18 @@ class Reader {
   bool ReadVector(const json& object, const std::string& path, const char* key, const char* unit,
                   bool required, Eigen::Matrix<double, N, 1>* out) {
     const auto it = object.find(key);
-    const std::string field = Member(path, key);
-    const std::string expected =
-        "an array of " + std::to_string(N) + " finite numbers (" + unit + ")";
-    if (it == object.end()) {
-      if (required) return Missing(field, expected);
-      return true;
-    }
-    if (!it->is_array() || it->size() != static_cast<size_t>(N)) {
-      return Expected(field, expected, *it);
-    }
+    const auto fail = [&] {
+      const std::string expected =
+          "an array of " + std::to_string(N) + " finite numbers (" + unit + ")";
+      return it == object.end() ? Missing(Member(path, key), expected)
+                                : Expected(Member(path, key), expected, *it);
+    };
+    if (it == object.end()) return required ? fail() : true;
+    if (!it->is_array() || it->size() != static_cast<size_t>(N)) return fail();
     Eigen::Matrix<double, N, 1> v;
     for (int i = 0; i < N; ++i) {
       const json& element = (*it)[static_cast<size_t>(i)];
-      if (!element.is_number() || !std::isfinite(element.get<double>())) {
-        return Expected(field, expected, *it);
-      }
+      if (!element.is_number() || !std::isfinite(element.get<double>())) return fail();
       v(i) = element.get<double>();
     }
     *out = v;
@@ -164,8 +161,8 @@ class Reader {
   }
 
   // An optional array field: absent gives nullptr, a non-array is an error.
-  bool ReadArray(const json& object, const std::string& path, const char* key,
-                 const char* expected, const json** out) {
+  bool ReadArray(const json& object, const std::string& path, const char* key, const char* expected,
+                 const json** out) {
     *out = nullptr;
     const auto it = object.find(key);
     if (it == object.end()) return true;

@@ -1,12 +1,18 @@
 // Result files: solved strands -> JSON (docs/scene-format.md, "Result format").
 #include "ringlet/result_json.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <string_view>
 
+#include "io/json_writer.h"
 #include "ringlet/kirchhoff.h"
 #include "ringlet/strand_geometry.h"
 
@@ -21,48 +27,166 @@ json Number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
 json Vector(const Vec3& v) { return json::array({Number(v.x()), Number(v.y()), Number(v.z())}); }
 
-// Whether value is an array of numbers and nulls only (a point, a curvature triple, the list of
-// segment lengths): those are written on one line.
-bool IsFlatArray(const json& value) {
-  if (!value.is_array()) return false;
-  for (const json& element : value) {
-    if (!element.is_number() && !element.is_null()) return false;
+// The "units" member: the unit and meaning of each number, for readers of the file. Shared by
+// ResultToJson and ResultToString so that the two cannot drift apart.
+struct UnitEntry {
+  const char* key;
+  const char* text;
+};
+constexpr UnitEntry kUnits[] = {
+    {"points", "m, world coordinates, root to tip"},
+    {"curvatures", "1/m: [kappa1, kappa2, tau] per segment in the material frame (n1, n2, t)"},
+    {"segment_lengths", "m"},
+    {"energy", "J: elastic, gravity (measured from the root), contact penalty and their total"},
+    {"gradient_norm", "J m: norm of the energy gradient with respect to the curvatures"},
+    {"residual", "dimensionless: internal-moment mismatch relative to the largest moment"},
+    {"kirchhoff_residual",
+     "dimensionless: the same balance by quadrature of the hanging weight's moment, "
+     "independent of the solver (ringlet solve --check)"},
+    {"min_hessian_eigenvalue",
+     "dimensionless: stiffness-scaled Hessian, 1 for an unloaded rod, < 0 unstable; "
+     "null when the stability check did not run"},
+    {"max_penetration", "m: largest depth of the strand below the body surface (0 without a body)"},
+    {"contact_samples", "count: contact samples inside the clearance layer (carrying a force)"},
+    {"seconds", "s: wall time of the whole solve"},
+    {"null", "a number that was NaN or infinite (termination is then non_finite)"}};
+
+// The largest max_penetration over the strands (m), 0 for none.
+double MaxPenetration(const std::vector<StrandResult>& strands) {
+  double max_penetration = 0.0;
+  for (const StrandResult& r : strands) {
+    max_penetration = std::max(max_penetration, r.summary.contact.max_penetration);
   }
-  return true;
+  return max_penetration;
 }
 
-// Indented JSON like dump(2), except that flat arrays stay on one line: a point reads
-// [0.1, 0.0, -0.02] instead of five lines. Scalars are nlohmann's own (full precision).
-void WriteIndented(const json& value, int indent, std::string* out) {
-  const std::string inner(static_cast<size_t>(indent + 2), ' ');
-  if (value.is_object() && !value.empty()) {
-    *out += "{\n";
-    size_t i = 0;
-    for (const auto& item : value.items()) {
-      *out += inner + json(item.key()).dump() + ": ";
-      WriteIndented(item.value(), indent + 2, out);
-      *out += ++i < value.size() ? ",\n" : "\n";
+// ResultToString's text, written member by member in the layout of docs/scene-format.md:
+// indented by two spaces, arrays of numbers (a point, a curvature triple, the segment lengths)
+// on one line. Keys are literals; numbers and strings go through io/json_writer.h.
+class ResultWriter {
+ public:
+  explicit ResultWriter(std::string* out) : out_(out) {}
+
+  void Document(const std::vector<StrandResult>& strands, double seconds) {
+    Raw("{\n  \"strands\": [");
+    for (size_t i = 0; i < strands.size(); ++i) {
+      Raw(i == 0 ? "\n    {\n" : ",\n    {\n");
+      Strand(strands[i]);
+      Raw("\n    }");
     }
-    *out += std::string(static_cast<size_t>(indent), ' ') + "}";
-  } else if (value.is_array() && !value.empty() && !IsFlatArray(value)) {
-    *out += "[\n";
-    size_t i = 0;
-    for (const json& element : value) {
-      *out += inner;
-      WriteIndented(element, indent + 2, out);
-      *out += ++i < value.size() ? ",\n" : "\n";
+    Raw(strands.empty() ? "]" : "\n  ]");
+
+    const ResultCounts counts = CountResults(strands);
+    Raw(",\n  \"summary\": {\n    \"strands\": ");
+    Integer(counts.strands);
+    Raw(",\n    \"converged\": ");
+    Integer(counts.converged);
+    Raw(",\n    \"stable\": ");
+    Integer(counts.stable);
+    Raw(",\n    \"max_penetration\": ");
+    Number(MaxPenetration(strands));
+    Raw(",\n    \"seconds\": ");
+    Number(seconds);
+    Raw("\n  },\n  \"units\": {");
+    bool first = true;
+    for (const UnitEntry& unit : kUnits) {
+      Raw(first ? "\n    " : ",\n    ");
+      first = false;
+      String(unit.key);
+      Raw(": ");
+      String(unit.text);
     }
-    *out += std::string(static_cast<size_t>(indent), ' ') + "]";
-  } else if (IsFlatArray(value)) {
-    *out += "[";
-    size_t i = 0;
-    for (const json& element : value) *out += element.dump() + (++i < value.size() ? ", " : "");
-    *out += "]";
-  } else {
-    // Messages are ASCII, but replace invalid UTF-8 rather than throw if one ever is not.
-    *out += value.dump(-1, ' ', false, json::error_handler_t::replace);
+    Raw("\n  }\n}\n");
   }
-}
+
+ private:
+  // The members of one strand, at indentation 6, without the braces.
+  void Strand(const StrandResult& r) {
+    const SolveSummary& s = r.summary;
+    Raw("      \"points\": ");
+    if (r.points.empty()) {
+      Raw("[]");
+    } else {
+      Raw("[");
+      for (size_t i = 0; i < r.points.size(); ++i) {
+        Raw(i == 0 ? "\n        " : ",\n        ");
+        Triple(r.points[i].x(), r.points[i].y(), r.points[i].z());
+      }
+      Raw("\n      ]");
+    }
+    Raw(",\n      \"curvatures\": ");
+    if (r.curvatures.size() < 3) {
+      Raw("[]");
+    } else {
+      Raw("[");
+      for (Eigen::Index i = 0; i + 2 < r.curvatures.size(); i += 3) {
+        Raw(i == 0 ? "\n        " : ",\n        ");
+        Triple(r.curvatures(i), r.curvatures(i + 1), r.curvatures(i + 2));
+      }
+      Raw("\n      ]");
+    }
+    Raw(",\n      \"segment_lengths\": [");
+    for (size_t i = 0; i < r.segment_lengths.size(); ++i) {
+      if (i > 0) Raw(", ");
+      Number(r.segment_lengths[i]);
+    }
+    Raw("],\n      \"energy\": {\n        \"elastic\": ");
+    Number(s.energy.elastic);
+    Raw(",\n        \"gravity\": ");
+    Number(s.energy.gravity);
+    Raw(",\n        \"contact\": ");
+    Number(s.energy.contact);
+    Raw(",\n        \"total\": ");
+    Number(s.energy.total);
+    Raw("\n      },\n      \"gradient_norm\": ");
+    Number(s.gradient_norm);
+    Raw(",\n      \"residual\": ");
+    Number(s.residual);
+    Raw(",\n      \"kirchhoff_residual\": ");
+    Number(r.kirchhoff_residual);
+    Raw(",\n      \"iterations\": ");
+    Integer(s.iterations);
+    Raw(",\n      \"evaluations\": ");
+    Integer(s.evaluations);
+    Raw(",\n      \"termination\": ");
+    String(TerminationName(s.termination));
+    Raw(",\n      \"stable\": ");
+    Raw(s.stable ? "true" : "false");
+    Raw(",\n      \"stability_checked\": ");
+    Raw(s.stability_checked ? "true" : "false");
+    Raw(",\n      \"min_hessian_eigenvalue\": ");
+    if (s.stability_checked) {
+      Number(s.min_eigenvalue);
+    } else {
+      Raw("null");
+    }
+    Raw(",\n      \"stability_restarts\": ");
+    Integer(s.stability_restarts);
+    Raw(",\n      \"max_penetration\": ");
+    Number(s.contact.max_penetration);
+    Raw(",\n      \"contact_samples\": ");
+    Integer(s.contact.samples_in_contact);
+    Raw(",\n      \"message\": ");
+    String(s.message);
+  }
+
+  void Triple(double a, double b, double c) {
+    Raw("[");
+    Number(a);
+    Raw(", ");
+    Number(b);
+    Raw(", ");
+    Number(c);
+    Raw("]");
+  }
+
+  void Raw(std::string_view text) { out_->append(text); }
+  void Number(double x) { internal::AppendJsonNumber(x, out_); }
+  void Integer(long long x) { internal::AppendJsonInteger(x, out_); }
+  void String(std::string_view text) { internal::AppendJsonString(text, out_); }
+
+  std::string* out_;
+};
 
 }  // namespace
 
@@ -97,6 +221,24 @@ StrandResult MakeStrandResult(const StrandModel& model, const StrandSolution& so
   }
   if (s.termination == Termination::kNonFinite) s.stable = false;
   return result;
+}
+
+std::vector<StrandResult> MakeStrandResults(const std::vector<StrandModel>& models,
+                                            const std::vector<StrandSolution>& solutions,
+                                            int points_per_segment, int threads) {
+  assert(models.size() == solutions.size());
+  std::vector<StrandResult> results(models.size());
+  const int total = static_cast<int>(models.size());
+  // Each result depends on its strand alone, so any split gives the same results.
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, total), [&](const tbb::blocked_range<int>& r) {
+      for (int i = r.begin(); i < r.end(); ++i) {
+        results[i] = MakeStrandResult(models[i], solutions[i], points_per_segment);
+      }
+    });
+  });
+  return results;
 }
 
 ResultCounts CountResults(const std::vector<StrandResult>& strands) {
@@ -149,41 +291,31 @@ nlohmann::ordered_json ResultToJson(const std::vector<StrandResult>& strands, do
   }
 
   const ResultCounts counts = CountResults(strands);
-  double max_penetration = 0.0;
-  for (const StrandResult& r : strands) {
-    max_penetration = std::max(max_penetration, r.summary.contact.max_penetration);
-  }
   json document = json::object();
   document["strands"] = std::move(strand_array);
   document["summary"] = {{"strands", counts.strands},
                          {"converged", counts.converged},
                          {"stable", counts.stable},
-                         {"max_penetration", Number(max_penetration)},
+                         {"max_penetration", Number(MaxPenetration(strands))},
                          {"seconds", Number(seconds)}};
-  document["units"] = {
-      {"points", "m, world coordinates, root to tip"},
-      {"curvatures", "1/m: [kappa1, kappa2, tau] per segment in the material frame (n1, n2, t)"},
-      {"segment_lengths", "m"},
-      {"energy", "J: elastic, gravity (measured from the root), contact penalty and their total"},
-      {"gradient_norm", "J m: norm of the energy gradient with respect to the curvatures"},
-      {"residual", "dimensionless: internal-moment mismatch relative to the largest moment"},
-      {"kirchhoff_residual",
-       "dimensionless: the same balance by quadrature of the hanging weight's moment, "
-       "independent of the solver (ringlet solve --check)"},
-      {"min_hessian_eigenvalue",
-       "dimensionless: stiffness-scaled Hessian, 1 for an unloaded rod, < 0 unstable; "
-       "null when the stability check did not run"},
-      {"max_penetration", "m: largest depth of the strand below the body surface (0 without a body)"},
-      {"contact_samples", "count: contact samples inside the clearance layer (carrying a force)"},
-      {"seconds", "s: wall time of the whole solve"},
-      {"null", "a number that was NaN or infinite (termination is then non_finite)"}};
+  json units = json::object();
+  for (const UnitEntry& unit : kUnits) units[unit.key] = unit.text;
+  document["units"] = std::move(units);
   return document;
 }
 
 std::string ResultToString(const std::vector<StrandResult>& strands, double seconds) {
+  // Reserve about what a strand takes (3 numbers of ~20 characters per point and per segment,
+  // plus ~900 characters of scalars and keys) so that the text is not copied as it grows.
+  size_t estimate = 2048;
+  for (const StrandResult& r : strands) {
+    estimate += 900 + 70 * (r.points.size() + static_cast<size_t>(r.curvatures.size() / 3)) +
+                24 * r.segment_lengths.size();
+  }
   std::string text;
-  WriteIndented(ResultToJson(strands, seconds), 0, &text);
-  return text + "\n";
+  text.reserve(estimate);
+  ResultWriter(&text).Document(strands, seconds);
+  return text;
 }
 
 }  // namespace ringlet

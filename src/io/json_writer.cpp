@@ -1,0 +1,83 @@
+// Writing JSON values directly into a string.
+#include "io/json_writer.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <system_error>
+
+namespace ringlet::internal {
+
+void AppendJsonNumber(double x, std::string* out) {
+  if (!std::isfinite(x)) {
+    out->append("null");
+    return;
+  }
+  // 24 characters hold the longest shortest form ("-2.2250738585072014e-308"); 32 leave room.
+  char buffer[32];
+  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer) - 2, x);
+  char* end = r.ptr;
+  if (std::memchr(buffer, '.', static_cast<size_t>(end - buffer)) == nullptr &&
+      std::memchr(buffer, 'e', static_cast<size_t>(end - buffer)) == nullptr) {
+    *end++ = '.';
+    *end++ = '0';
+  }
+  out->append(buffer, end);
+}
+
+void AppendJsonInteger(long long x, std::string* out) {
+  char buffer[24];
+  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), x);
+  out->append(buffer, r.ptr);
+}
+
+void AppendJsonString(std::string_view text, std::string* out) {
+  // Non-ASCII text (never in ringlet's own messages) goes through nlohmann, which validates the
+  // UTF-8; the common ASCII case is escaped here.
+  for (const char c : text) {
+    if (static_cast<unsigned char>(c) >= 0x80) {
+      out->append(nlohmann::json(std::string(text))
+                      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+      return;
+    }
+  }
+  static constexpr char kHex[] = "0123456789abcdef";
+  out->push_back('"');
+  for (const char c : text) {
+    switch (c) {
+      case '"':
+        out->append("\\\"");
+        break;
+      case '\\':
+        out->append("\\\\");
+        break;
+      case '\b':
+        out->append("\\b");
+        break;
+      case '\f':
+        out->append("\\f");
+        break;
+      case '\n':
+        out->append("\\n");
+        break;
+      case '\r':
+        out->append("\\r");
+        break;
+      case '\t':
+        out->append("\\t");
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          out->append("\\u00");
+          out->push_back(kHex[(c >> 4) & 0xf]);
+          out->push_back(kHex[c & 0xf]);
+        } else {
+          out->push_back(c);
+        }
+    }
+  }
+  out->push_back('"');
+}
+
+}  // namespace ringlet::internal
