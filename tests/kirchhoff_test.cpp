@@ -46,3 +46,20 @@ TEST(Kirchhoff, CertifiesSolutionsAndCatchesPerturbations) {
 
 }  // namespace
 }  // namespace ringlet
+
+namespace ringlet {
+namespace {
+
+// Regression (issue 16): a curvature of 1e300 1/m made the piece count overflow a float-to-int
+// conversion (undefined behaviour, caught by UBSan). The count is capped; the residual is
+// still computed (and is not a finite success).
+TEST(KirchhoffResidual, HugeCurvatureDoesNotOverflowThePieceCount) {
+  StrandModel m = testing::MakeStrand(0.1, 3);
+  VecX q = VecX::Zero(9);
+  q(0) = 1e300;
+  const double r = KirchhoffResidual(m, q);
+  EXPECT_FALSE(r <= 1e-6) << r;
+}
+
+}  // namespace
+}  // namespace ringlet

@@ -204,6 +204,7 @@ ordered_json ReferenceDocument(const std::vector<StrandResult>& results, double 
     strand["kirchhoff_residual"] = number(r.kirchhoff_residual);
     strand["iterations"] = s.iterations;
     strand["evaluations"] = s.evaluations;
+    strand["hessian_evaluations"] = s.hessian_evaluations;
     strand["termination"] = TerminationName(s.termination);
     strand["stable"] = s.stable;
     strand["stability_checked"] = s.stability_checked;

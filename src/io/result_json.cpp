@@ -148,6 +148,8 @@ class ResultWriter {
     Integer(s.iterations);
     Raw(",\n      \"evaluations\": ");
     Integer(s.evaluations);
+    Raw(",\n      \"hessian_evaluations\": ");
+    Integer(s.hessian_evaluations);
     Raw(",\n      \"termination\": ");
     String(TerminationName(s.termination));
     Raw(",\n      \"stable\": ");
@@ -278,6 +280,7 @@ nlohmann::ordered_json ResultToJson(const std::vector<StrandResult>& strands, do
     strand["kirchhoff_residual"] = Number(r.kirchhoff_residual);
     strand["iterations"] = s.iterations;
     strand["evaluations"] = s.evaluations;
+    strand["hessian_evaluations"] = s.hessian_evaluations;
     strand["termination"] = TerminationName(s.termination);
     strand["stable"] = s.stable;
     strand["stability_checked"] = s.stability_checked;

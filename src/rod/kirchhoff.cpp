@@ -17,7 +17,13 @@ constexpr double kNodes[4] = {0.183434642495649805, 0.525532409916328986, 0.7966
                               0.960289856497536232};
 constexpr double kWeights[4] = {0.362683783378361983, 0.313706645877887287, 0.222381034453374471,
                                 0.101228536290376259};
-constexpr double kMaxTurnPerInterval = 0.5;  // rad
+// Quadrature pieces turn by at most this angle: the 8-point rule is exact to rounding on these
+// trigonometric integrands while a piece turns by less than ~2 rad (DESIGN.md, "The gradient is
+// the internal moment"); 1 rad keeps a factor 2 of margin and halves the cost of 0.5 rad.
+constexpr double kMaxTurnPerInterval = 1.0;  // rad
+// At most this many pieces per segment (a segment turning by more than 4096 rad is not a hair;
+// the cap keeps the count an int whatever the curvature).
+constexpr double kMaxPiecesPerSegment = 4096.0;
 
 }  // namespace
 
@@ -109,7 +115,9 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
       moment += torque - r.cross(force);
       return Vec3((g.frames[i] * part.rotation).transpose() * moment);  // material coordinates
     };
-    int pieces = std::max(1, static_cast<int>(std::ceil(omega.norm() * l / kMaxTurnPerInterval)));
+    const double turn_pieces = std::ceil(omega.norm() * l / kMaxTurnPerInterval);
+    int pieces = turn_pieces >= 1.0 ? static_cast<int>(std::min(turn_pieces, kMaxPiecesPerSegment))
+                                    : 1;  // NaN and 0 also give one piece
     // With contact, the moment jumps at the samples (j + 1) l / m: make them piece boundaries.
     if (!contacts.empty()) pieces = m * ((pieces + m - 1) / m);
     const double h = l / pieces;
