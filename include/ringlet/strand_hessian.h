@@ -31,7 +31,8 @@ struct StrandHessian {
   std::vector<Mat63> twist;    ///< S_a (rows 0-2: rad per 1/m = m; rows 3-5: m^2)
   std::vector<Mat63> load;     ///< B_b (rows 0-2: J m; rows 3-5: J)
   /// Whether some B has non-zero bottom rows (contact samples carry a force); when false they
-  /// are all zero and the factorization works on the 3x3 top blocks alone.
+  /// are all zero and the factorization works on the 3x3 top blocks alone (without an obstacle
+  /// the twists' bottom rows are then left zero too: they only ever meet those zero rows).
   bool translational = false;
 
   /// Number of segments n (the matrix is 3n x 3n).

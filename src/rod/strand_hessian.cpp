@@ -118,10 +118,9 @@ Mat3 ChordDerivative(const Vec3& omega, const Coefficients& c) {
 //   b1 (Omega v^T + v Omega^T) + (Omega . v)(b1 I + c1 Omega Omega^T)
 //   + rho (b2 I + c2 Omega Omega^T) + 2 b2 (Omega (M Omega)^T + (M Omega) Omega^T) + 2 a2 M.
 // Its gradient, a1 v + b1 (Omega . v) Omega + 2 a2 M Omega + b2 rho Omega, is HelixSegmentVjp's.
-Mat3 OwnHessian(const Vec3& omega, const Coefficients& c, const Mat3& x) {
-  const Vec3 v = Vee(x);
-  const Mat3 m = 0.5 * (x + x.transpose()) - x.trace() * Mat3::Identity();
-  const Vec3 m_omega = m * omega;
+// The common part, given v, M, M Omega.
+Mat3 OwnHessianFrom(const Vec3& omega, const Coefficients& c, const Vec3& v, const Mat3& m,
+                    const Vec3& m_omega) {
   const double rho = omega.dot(m_omega);
   const double ov = omega.dot(v);
   const Mat3 oo = omega * omega.transpose();
@@ -132,12 +131,21 @@ Mat3 OwnHessian(const Vec3& omega, const Coefficients& c, const Mat3& x) {
   return h;
 }
 
-// X = d e3^T, the cotangent matrix of a chord (A e3) with sensitivity d.
-Mat3 ChordCotangent(const Vec3& d) {
-  Mat3 x = Mat3::Zero();
-  x.col(2) = d;
-  return x;
+Mat3 OwnHessian(const Vec3& omega, const Coefficients& c, const Mat3& x) {
+  const Mat3 m = 0.5 * (x + x.transpose()) - x.trace() * Mat3::Identity();
+  return OwnHessianFrom(omega, c, Vee(x), m, m * omega);
 }
+
+// OwnHessian for a chord, X = d e3^T: v = e3 x d, M = (d e3^T + e3 d^T)/2 - d_z I.
+Mat3 ChordOwnHessian(const Vec3& omega, const Coefficients& c, const Vec3& d) {
+  Mat3 m = Mat3::Zero();
+  m.col(2) = 0.5 * d;
+  m.row(2) += 0.5 * d.transpose();
+  m.diagonal().array() -= d.z();
+  const Vec3 m_omega = 0.5 * (omega.z() * d + d.dot(omega) * Vec3::UnitZ()) - d.z() * omega;
+  return OwnHessianFrom(omega, c, Vec3(-d.y(), d.x(), 0.0), m, m_omega);
+}
+
 
 // One segment of the forward sweep: start frame, closed forms and their first derivatives.
 struct SegmentData {
@@ -223,7 +231,13 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
     Mat63 twist;
     twist.topRows<3>() = q * jacobian;
     const Vec3 r_next = r + q * s.chord;
-    twist.bottomRows<3>() = q * s.d_chord + Hat(r_next) * twist.topRows<3>();
+    // Without an obstacle no load depends on position, so the bottom rows never meet a non-zero
+    // load (B's bottom rows are the contact terms): skip them.
+    if (obstacle) {
+      twist.bottomRows<3>() = q * s.d_chord + Hat(r_next) * twist.topRows<3>();
+    } else {
+      twist.bottomRows<3>().setZero();
+    }
     hessian->twist[static_cast<size_t>(i)] = twist;
 
     if (obstacle) {
@@ -275,8 +289,8 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
 
     // The Jacobian of the segment's own gradient (HelixSegmentVjp), adjoints fixed.
     Mat3 own = OwnHessian(omega, s.coefficients[1], qt * q_bar) +
-               OwnHessian(omega, s.coefficients[2], ChordCotangent(qt * r_bar)) +
-               OwnHessian(omega, s.coefficients[3], ChordCotangent(-(qt * f)));
+               ChordOwnHessian(omega, s.coefficients[2], qt * r_bar) +
+               ChordOwnHessian(omega, s.coefficients[3], -(qt * f));
     // dQbar_i/dOmega_k with the loads fixed (the update of q_bar below, differentiated).
     // dR_k = [J e_k]x R, so q_bar dR_k^T = -(q_bar R^T) [J e_k]x.
     const Mat3 q_bar_rt = q_bar * s.rotation.transpose();
@@ -295,7 +309,7 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
     const int last = c;
     for (; c >= 0 && samples[static_cast<size_t>(c)].segment == i; --c) {
       const SampleData& p = samples[static_cast<size_t>(c)];
-      own += OwnHessian(omega, p.coefficients, ChordCotangent(qt * p.force));
+      own += ChordOwnHessian(omega, p.coefficients, qt * p.force);
       const Mat3 jacobian = s.frame * p.d_h;  // dy/dOmega_i
       const Mat36 e = PointMotion(p.y);
       d += jacobian.transpose() * p.phi * jacobian;

@@ -108,6 +108,9 @@ class ScaledStrandObjective final : public internal::Objective {
   }
 
   const VecX& scale() const { return scale_; }
+  // Reused by MinEigen too (no allocation per Hessian).
+  StrandHessian& hessian_scratch() { return hessian_; }
+  StrandHessianFactor& factor_scratch() { return factor_; }
 
  private:
   const StrandModel& model_;
@@ -128,11 +131,11 @@ class ScaledStrandObjective final : public internal::Objective {
 // (a shift below lambda_min found by doubling, then the O(n) solve) for long ones.
 double MinEigen(ScaledStrandObjective& objective, const VecX& x, int inverse_iterations,
                 VecX* vector, int* hessian_evaluations) {
-  StrandHessian hessian;
+  StrandHessian& hessian = objective.hessian_scratch();
   objective.ScaledHessian(x, &hessian);
   ++*hessian_evaluations;
   const int n = objective.Dimension();
-  StrandHessianFactor factor;
+  StrandHessianFactor& factor = objective.factor_scratch();
   VecX v = VecX::Ones(n) / std::sqrt(static_cast<double>(n)), w;
   if (factor.Factor(hessian, kStabilityTolerance)) {
     for (int k = 0; k < inverse_iterations; ++k) {
