@@ -3,6 +3,7 @@
 
 #include <set>
 #include <utility>
+#include <vector>
 
 namespace ringlet::internal {
 namespace {
@@ -79,6 +80,12 @@ class DuplicateFinder {
   std::string duplicate_;
 };
 
+// Thrown by the parser callback to stop at a container nested deeper than kMaxJsonDepth, with
+// the path of the container.
+struct TooDeep {
+  std::string path;
+};
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -112,10 +119,61 @@ std::string Truncate(std::string text, size_t max_bytes) {
   return text.substr(0, cut) + "...";
 }
 
+namespace {
+
+// A scalar (or an empty container) as compact ASCII JSON; a string is cut to max_bytes first, so
+// that a huge string costs no more than a short one.
+std::string ScalarText(const json& value, size_t max_bytes) {
+  if (value.is_string()) {
+    const std::string& text = value.get_ref<const std::string&>();
+    const std::string cut =
+        Truncate(text.substr(0, std::min(text.size(), max_bytes + 4)), max_bytes);
+    return json(cut).dump(-1, ' ', true, json::error_handler_t::replace);
+  }
+  if (value.is_object()) return "{}";
+  if (value.is_array()) return "[]";
+  return value.dump(-1, ' ', true, json::error_handler_t::replace);
+}
+
+}  // namespace
+
 // A value as quoted in a message: compact JSON, ASCII only (control characters escaped), cut to
-// kMaxShownCharacters.
+// kMaxShownCharacters. Containers are walked with an explicit stack (never recursively: a
+// document may be deeply nested) and the walk stops as soon as the text is long enough.
 std::string Show(const json& value) {
-  return Truncate(value.dump(-1, ' ', true, json::error_handler_t::replace), kMaxShownCharacters);
+  const size_t budget = kMaxShownCharacters + 1;  // one more: Truncate then marks the cut
+  struct Frame {
+    const json* container;
+    json::const_iterator next;
+    bool first;
+  };
+  std::vector<Frame> stack;
+  std::string out;
+  auto open = [&](const json& v) {
+    if ((v.is_object() || v.is_array()) && !v.empty()) {
+      out += v.is_object() ? '{' : '[';
+      stack.push_back(Frame{&v, v.cbegin(), true});
+    } else {
+      out += ScalarText(v, budget);
+    }
+  };
+  open(value);
+  while (!stack.empty() && out.size() < budget) {
+    Frame& top = stack.back();
+    if (top.next == top.container->cend()) {
+      out += top.container->is_object() ? '}' : ']';
+      stack.pop_back();
+      continue;
+    }
+    if (!top.first) out += ',';
+    top.first = false;
+    if (top.container->is_object()) out += ScalarText(json(top.next.key()), budget) + ':';
+    const json& child = *top.next;
+    ++top.next;
+    open(child);  // may push: top is not used after this
+  }
+  if (!stack.empty()) out += "...";  // cut inside a container: Truncate below marks it
+  return Truncate(out, kMaxShownCharacters);
 }
 
 // Levenshtein distance, for "did you mean" hints on misspelt fields.
@@ -165,10 +223,23 @@ bool ParseJsonText(const std::string& text, nlohmann::json* out, std::string* er
   try {
     document = json::parse(
         text,
-        [&duplicates](int /*depth*/, json::parse_event_t event, json& parsed) {
+        [&duplicates](int depth, json::parse_event_t event, json& parsed) {
+          // depth counts the containers around the one starting: the top level starts at 0.
+          if ((event == json::parse_event_t::object_start ||
+               event == json::parse_event_t::array_start) &&
+              depth >= kMaxJsonDepth) {
+            throw TooDeep{duplicates.PendingPath()};  // the path of the container starting
+          }
           return duplicates.OnEvent(event, parsed);
         },
         /*allow_exceptions=*/true, /*ignore_comments=*/false);
+  } catch (const TooDeep& e) {
+    if (error) {
+      const std::string message = "invalid JSON: arrays and objects nested deeper than " +
+                                  std::to_string(kMaxJsonDepth) + " levels (the limit)";
+      *error = e.path.empty() ? message : Truncate(e.path, kMaxMessage) + ": " + message;
+    }
+    return false;
   } catch (const json::parse_error& e) {
     // nlohmann's text is "[json.exception.parse_error.101] parse error at line 2, column 0:
     // syntax error ..."; keep the part after the position, which is recomputed from the byte

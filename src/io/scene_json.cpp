@@ -127,13 +127,19 @@ bool ParseSegments(Reader& reader, const json& strand, const std::string& path, 
   const auto it = strand.find("segment_lengths");
   if (it == strand.end()) {
     model->segment_lengths = GradedSegments(length, segments, grading);
-    // An extreme grading can make the first segment underflow.
+    // An extreme grading, or a tiny length, can make a segment length underflow. The field to
+    // blame is the grading when there is one, the length otherwise (read through find: an
+    // absent member must never be indexed).
     for (double l : model->segment_lengths) {
       if (!(std::isfinite(l) && l > 0.0)) {
-        return reader.Fail(Member(path, "grading"),
-                           "is too large for " + std::to_string(segments) +
-                               " segments: some segment lengths are not representable, got " +
-                               Show(strand["grading"]));
+        const std::string counted = " for " + std::to_string(segments) +
+                                    " segments: some segment lengths are not representable, got ";
+        if (has_grading) {
+          return reader.Fail(Member(path, "grading"),
+                             "is too large" + counted + Show(*strand.find("grading")));
+        }
+        return reader.Fail(Member(path, "length"),
+                           "is too small" + counted + Show(*strand.find("length")));
       }
     }
     return true;
