@@ -152,6 +152,15 @@ bad "FIFO as scene" "fifo.json: is a FIFO, not a regular file" solve "$work/in/f
 bad "FIFO as body" "--body: $work/in/fifo.json: is a FIFO" render "$HAIR" \
   --body "$work/in/fifo.json" -o "$work/never/image.png"
 bad "FIFO as hairstyle" "fifo.json: is a FIFO" groom "$work/in/fifo.json" -o "$work/never"
+# An array of a million objects (3 MB): nlohmann's callback parser rescanned the array after
+# every object (quadratic: hours), and the scene reader allocated a model per element before
+# reading the first. Now linear: the error comes at once.
+"$PYTHON" -c 'import sys; n = 1000000; sys.stdout.write("{\"strands\": [" + "{}," * (n - 1) + "{}]}")' \
+  >"$work/in/many.json"
+start=$(date +%s)
+bad "a million empty strands" "strands[0].length: missing required field" \
+  solve "$work/in/many.json" -o "$work/never"
+[ $(($(date +%s) - start)) -lt 20 ] && ok || fail "a million empty strands took $(($(date +%s) - start)) s"
 # A scene above the size cap is refused before it is read.
 truncate -s 65M "$work/in/big.json"
 bad "65 MiB scene" "big.json: is 68157440 bytes, more than the limit of 64 MiB" \

@@ -217,22 +217,85 @@ std::string LineColumnText(const std::string& text, size_t byte) {
   return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
+namespace {
+
+// A SAX handler that builds the document with nlohmann's own DOM builder and, on the way, finds
+// duplicate members (DuplicateFinder) and stops at containers nested deeper than kMaxJsonDepth.
+// nlohmann's callback parser (json::parse with a callback) would give the depth too, but after
+// every object it scans the enclosing array for discarded values: quadratic in the length of an
+// array of objects (a 64-MiB "[{},{},...]" took hours).
+class CheckedDomBuilder {
+ public:
+  explicit CheckedDomBuilder(json* document) : dom_(*document, /*allow_exceptions=*/true) {}
+
+  const DuplicateFinder& duplicates() const { return finder_; }
+
+  bool null() { return Value() && dom_.null(); }
+  bool boolean(bool value) { return Value() && dom_.boolean(value); }
+  bool number_integer(json::number_integer_t value) {
+    return Value() && dom_.number_integer(value);
+  }
+  bool number_unsigned(json::number_unsigned_t value) {
+    return Value() && dom_.number_unsigned(value);
+  }
+  bool number_float(json::number_float_t value, const json::string_t& text) {
+    return Value() && dom_.number_float(value, text);
+  }
+  bool string(json::string_t& value) { return Value() && dom_.string(value); }
+  bool binary(json::binary_t& value) { return Value() && dom_.binary(value); }
+  bool start_object(std::size_t size) {
+    Open(json::parse_event_t::object_start);
+    return dom_.start_object(size);
+  }
+  bool key(json::string_t& name) {
+    finder_.OnEvent(json::parse_event_t::key, json(name));
+    return dom_.key(name);
+  }
+  bool end_object() {
+    Close(json::parse_event_t::object_end);
+    return dom_.end_object();
+  }
+  bool start_array(std::size_t size) {
+    Open(json::parse_event_t::array_start);
+    return dom_.start_array(size);
+  }
+  bool end_array() {
+    Close(json::parse_event_t::array_end);
+    return dom_.end_array();
+  }
+  template <class Exception>
+  bool parse_error(std::size_t position, const std::string& token, const Exception& e) {
+    return dom_.parse_error(position, token, e);  // throws e
+  }
+
+ private:
+  bool Value() { return finder_.OnEvent(json::parse_event_t::value, kNull); }
+  void Open(json::parse_event_t event) {
+    // The top-level container is level 1.
+    if (depth_ >= kMaxJsonDepth) throw TooDeep{finder_.PendingPath()};
+    ++depth_;
+    finder_.OnEvent(event, kNull);
+  }
+  void Close(json::parse_event_t event) {
+    --depth_;
+    finder_.OnEvent(event, kNull);
+  }
+
+  inline static const json kNull;
+  nlohmann::detail::json_sax_dom_parser<json> dom_;
+  DuplicateFinder finder_;
+  int depth_ = 0;
+};
+
+}  // namespace
+
 bool ParseJsonText(const std::string& text, nlohmann::json* out, std::string* error) {
   json document;
-  DuplicateFinder duplicates;
+  CheckedDomBuilder builder(&document);
+  const DuplicateFinder& duplicates = builder.duplicates();
   try {
-    document = json::parse(
-        text,
-        [&duplicates](int depth, json::parse_event_t event, json& parsed) {
-          // depth counts the containers around the one starting: the top level starts at 0.
-          if ((event == json::parse_event_t::object_start ||
-               event == json::parse_event_t::array_start) &&
-              depth >= kMaxJsonDepth) {
-            throw TooDeep{duplicates.PendingPath()};  // the path of the container starting
-          }
-          return duplicates.OnEvent(event, parsed);
-        },
-        /*allow_exceptions=*/true, /*ignore_comments=*/false);
+    json::sax_parse(text, &builder, json::input_format_t::json, /*strict=*/true,
+                    /*ignore_comments=*/false);
   } catch (const TooDeep& e) {
     if (error) {
       const std::string message = "invalid JSON: arrays and objects nested deeper than " +

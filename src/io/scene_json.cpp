@@ -268,11 +268,12 @@ bool ParseSceneDocument(Reader& reader, const json& document, Scene* out) {
     return reader.Expected("strands", expected, *strands);
   }
   Scene scene;
-  scene.strands.resize(strands->size());
+  // One model per strand as it is read, not strands->size() of them up front: a 64-MiB file of
+  // "{}," would otherwise ask for 22 million models (~8 GB) before the first error.
   for (size_t i = 0; i < strands->size(); ++i) {
-    if (!ParseStrand(reader, (*strands)[i], Element("strands", i), gravity, &scene.strands[i])) {
-      return false;
-    }
+    StrandModel model;
+    if (!ParseStrand(reader, (*strands)[i], Element("strands", i), gravity, &model)) return false;
+    scene.strands.push_back(std::move(model));
   }
   if (!internal::ParseSolverObject(reader, document, "", &scene.solver)) return false;
   *out = std::move(scene);
