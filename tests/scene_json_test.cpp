@@ -836,6 +836,18 @@ TEST(JsonReader, ShowIsBoundedForDeepLongAndLargeValues) {
   EXPECT_EQ(internal::Show(json(-64)), "-64");
 }
 
+TEST(JsonReader, HugeKeysAreCutInPathsAndNotCompared) {
+  json d = MinimalScene();
+  d["strands"][0][std::string(10000000, 'k')] = 1;  // an unknown field with a 10 MB name
+  Scene scene;
+  std::string error;
+  EXPECT_FALSE(ParseScene(d, &scene, &error));
+  EXPECT_EQ(error.rfind("strands[0][\"kkkk", 0), 0u) << error.substr(0, 200);
+  EXPECT_NE(error.find("unknown field (known fields: length"), std::string::npos)
+      << error.substr(0, 200);
+  EXPECT_LT(error.size(), 400u);
+}
+
 TEST(JsonReader, IntegersAreReadExactly) {
   internal::Reader reader;
   const json object = json::parse(

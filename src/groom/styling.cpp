@@ -79,6 +79,9 @@ std::string Summary(const OperationReport& r) {
 }
 
 bool CheckCurl(double radius, double pitch, std::string* why) {
+  if (radius == 0.0 && pitch == 0.0) {
+    return Fail(why, "curl.radius, curl.pitch: R = p = 0 is not a helix");
+  }
   std::string field, message;
   if (CheckCurlHelix(radius, pitch, &field, &message)) return true;
   return Fail(why, "curl." + field + ": " + message);

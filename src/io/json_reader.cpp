@@ -102,6 +102,15 @@ bool IsPlainKey(const std::string& key) {
 // The path of a member: "strands[0]" + "radius" -> "strands[0].radius"; odd keys are quoted
 // (escaped, ASCII only) so that a message always stays on one line: strands[0]["a\nb"].
 std::string Member(const std::string& path, const std::string& key) {
+  // A key of any length is shown cut to kMaxShownCharacters (marked with "...", and then always
+  // quoted), so that a path, too, stays short whatever the file holds.
+  if (key.size() > kMaxShownCharacters) {
+    return path + "[" +
+           Truncate(json(Truncate(key, kMaxShownCharacters))
+                        .dump(-1, ' ', true, json::error_handler_t::replace),
+                    kMaxShownCharacters + 8) +
+           "]";
+  }
   if (IsPlainKey(key)) return path.empty() ? key : path + "." + key;
   return path + "[" + json(key).dump(-1, ' ', true, json::error_handler_t::replace) + "]";
 }

@@ -88,6 +88,13 @@ class Reader {
       std::string hint;
       size_t best = kSuggestionDistance + 1;
       for (const char* k : known) {
+        // The distance is at least the difference of the lengths: skip what cannot be close
+        // (and a huge key's quadratic cost).
+        const size_t length = std::char_traits<char>::length(k);
+        if ((key.size() > length ? key.size() - length : length - key.size()) >
+            kSuggestionDistance) {
+          continue;
+        }
         const size_t d = EditDistance(key, k);
         if (d < best) {
           best = d;
