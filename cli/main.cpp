@@ -1,5 +1,8 @@
 // The `ringlet` command: a thin dispatcher over its subcommands (one file each, see commands.h).
 #include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -62,7 +65,17 @@ int main(int argc, char** argv) {
   }
 
   for (const Command& command : commands) {
-    if (command.app->parsed()) return command.run();
+    if (!command.app->parsed()) continue;
+    const int code = command.run();
+    // A summary that could not be written (stdout on a full disk, a closed pipe) is an error,
+    // not a silent success.
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      const int error_number = errno;
+      ringlet::cli::PrintError(std::string("stdout: cannot write the summary: ") +
+                               (error_number != 0 ? std::strerror(error_number) : "write error"));
+      return code == ringlet::cli::kExitSuccess ? ringlet::cli::kExitBadInput : code;
+    }
+    return code;
   }
   return ringlet::cli::kExitBadInput;  // unreachable: a subcommand is required
 }

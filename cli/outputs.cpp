@@ -26,10 +26,12 @@ bool CheckOutputDirectory(const std::string& directory, const std::vector<std::s
     *error = directory + ": exists and is not a directory; give a directory to --output";
     return false;
   }
-  if (force) return true;
   for (const std::string& name : names) {
     const fs::path file = fs::path(directory) / name;
-    if (fs::exists(file, ec)) {
+    // --force replaces regular files only (not a device, FIFO or symbolic link).
+    if (force) {
+      if (!CheckReplaceable(file.string(), true, error)) return false;
+    } else if (fs::exists(fs::symlink_status(file, ec))) {
       *error = file.string() + ": already exists (use --force to overwrite it)";
       return false;
     }

@@ -6,6 +6,7 @@
 // Exit codes: 0 the image was written, 2 it was written but some master of the hairstyle did not
 // reach a stable equilibrium (as `ringlet groom`), 1 bad usage or input (nothing is written).
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cmath>
@@ -121,7 +122,8 @@ int RunRender(const RenderArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
-  if (!args.settings_path.empty() && !LoadRenderSettings(args.settings_path, &settings, &error)) {
+  if (!args.settings_path.empty() &&
+      !LoadRenderSettings(args.settings_path, &settings, &error, /*required=*/true)) {
     PrintError(error);
     return kExitBadInput;
   }
@@ -229,8 +231,22 @@ Command AddRenderCommand(CLI::App* parent) {
                             ->check(CLI::Range(1, 16384));
   args->spp_option = app->add_option("--spp", args->spp, "Samples per pixel")
                          ->check(CLI::Range(1, 1 << 20));
-  args->seed_option = app->add_option("--seed", args->seed,
-                                      "Sampling seed: same seed, same image on any thread count");
+  // CLI11 would read "-1" into an unsigned integer as 2^64 - 1: only digits are accepted, and
+  // only up to 2^53, the limit of the render settings' "seed".
+  args->seed_option =
+      app->add_option("--seed", args->seed,
+                      "Sampling seed, an integer from 0 to 2^53: same seed, same image on any "
+                      "thread count")
+          ->check(CLI::Validator(
+              [](std::string& text) {
+                const bool digits = !text.empty() && text.size() <= 16 &&
+                                    std::all_of(text.begin(), text.end(),
+                                                [](char c) { return c >= '0' && c <= '9'; });
+                if (digits && std::stoull(text) <= (std::uint64_t{1} << 53)) return std::string();
+                return "expected an integer between 0 and 2^53 (9007199254740992), got \"" + text +
+                       "\"";
+              },
+              "UINT"));
   args->bounces_option = app->add_option("--max-bounces", args->max_bounces,
                                          "Scattering events after the first hit (path_traced)")
                              ->check(CLI::Range(0, 1000));

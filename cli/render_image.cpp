@@ -8,6 +8,7 @@
 
 #include "format.h"
 #include "progress.h"
+#include "ringlet/atomic_file.h"
 #include "ringlet/hair_bsdf.h"
 #include "ringlet/png_image.h"
 
@@ -59,7 +60,8 @@ bool CheckImagePath(const std::string& path, bool force, std::string* error) {
     *error = path + ": already exists (use --force to overwrite)";
     return false;
   }
-  return true;
+  // --force replaces regular files only (not a device, FIFO or symbolic link).
+  return CheckReplaceable(path, true, error);
 }
 
 bool RenderJobImage(const RenderJob& job, Image* image, RenderStats* stats, std::string* error) {

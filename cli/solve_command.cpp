@@ -65,7 +65,8 @@ bool CheckOutput(const SolveArgs& args, std::string* error) {
     *error = args.output_path + ": already exists (use --force to overwrite it)";
     return false;
   }
-  return true;
+  // --force replaces regular files only (not a device, FIFO or symbolic link).
+  return CheckReplaceable(args.output_path, true, error);
 }
 
 // "strand 0: converged, stable, 57 iterations, tip (0.0934, 0, -0.0312) m, energy ... J, ..."

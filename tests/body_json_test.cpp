@@ -153,6 +153,48 @@ TEST(BodyJson, MeshPathsAreRelativeToTheBaseDirectory) {
                 "closed, so its inside is undefined");
 }
 
+// Issue 16: tinyobjloader reads a bad coordinate as 0 and "8x" as 8; the lines are checked
+// first, and refused with their number.
+TEST(BodyJson, ObjLinesAreValidatedWithTheLineNumber) {
+  TempDirectory dir;
+  const std::string box(kBoxObj);
+  struct Case {
+    std::string from, to, message;
+  };
+  const Case cases[] = {
+      {"v 1 -1 -1", "v nan -1 -1", "line 3: vertex: expected finite numbers, got \"nan\""},
+      {"v 1 -1 -1", "v abc -1 -1", "line 3: vertex: expected finite numbers, got \"abc\""},
+      {"v 1 -1 -1", "v 1 -1", "line 3: vertex: expected 3 coordinates x y z (m), got 2 values"},
+      {"v 1 -1 -1", "v 1e999 -1 -1", "line 3: vertex: expected finite numbers, got \"1e999\""},
+      {"v 1 -1 -1", "v 1.5x -1 -1", "got \"1.5x\""},
+      {"f 2 4 8 6", "f 2 4 8x 6",
+       "line 15: face: expected vertex references v, v/vt, v//vn or "
+       "v/vt/vn (non-zero integers), got \"8x\""},
+      {"f 2 4 8 6", "f 2 4 0 6", "line 15: face: expected vertex references"},
+      {"f 2 4 8 6", "f 2 4/ 8 6", "got \"4/\""},
+      {"f 2 4 8 6", "f 2 4", "line 15: face: expected at least 3 vertices, got 2"},
+  };
+  for (const Case& c : cases) {
+    std::string text = box;
+    text.replace(text.find(c.from), c.from.size(), c.to);
+    dir.Write("bad.obj", text);
+    const std::string error = Error(json::parse(R"({"meshes": [{"obj": "bad.obj"}]})"), dir.path());
+    EXPECT_EQ(error.rfind("body.meshes[0].obj: " + dir.path() + "/bad.obj: line ", 0), 0u) << error;
+    EXPECT_NE(error.find(c.message), std::string::npos) << c.to << ": " << error;
+  }
+  // What tinyobjloader also accepts stays accepted: comment lines, CRLF, v/vt/vn references,
+  // negative (relative) indices, a vertex weight.
+  std::string fancy = "# a box\r\nvn 0 0 1\r\nvt 0 0\r\n" + box;
+  fancy.replace(fancy.find("v -1 -1 -1"), 10, "v -1 -1 -1 1.0");
+  fancy.replace(fancy.find("f 1 3 4 2"), 9, "f -8//1 -6//1 -5//1 -7//1");
+  dir.Write("fancy.obj", fancy);
+  Body body;
+  std::string error;
+  EXPECT_TRUE(ParseBody(json::parse(R"({"meshes": [{"obj": "fancy.obj"}]})"), "body", dir.path(),
+                        &body, &error))
+      << error;
+}
+
 TEST(BodyJson, LoadBodyReportsFileAndSyntaxErrors) {
   TempDirectory dir;
   Body body;

@@ -711,10 +711,11 @@ TEST(LoadObjMeshes, RejectsBadFiles) {
   EXPECT_FALSE(LoadObjMeshes(missing, &meshes, &error));
   EXPECT_EQ(error, missing + ": cannot open: No such file or directory");
 
+  // A zero index is refused by ringlet's own line check (issue 16), before tinyobjloader.
   EXPECT_EQ(load("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n"),
             dir.path() +
-                "/zero.obj: invalid OBJ: Failed parse `f' line(e.g. zero value for face index. "
-                "line 4.)");
+                "/zero.obj: line 4: face: expected vertex references v, v/vt, v//vn or v/vt/vn "
+                "(non-zero integers), got \"0\"");
   EXPECT_EQ(load("points.obj", "v 0 0 0\nv 1 0 0\n"), dir.path() +
                                                           "/points.obj: no faces "
                                                           "(a body mesh needs closed "

@@ -388,6 +388,15 @@ TEST(HairFile, DecodeRejectsMalformedFiles) {
   std::string wrong_total = Header(2, 5, 2, 2, 1.0f);  // 2 strands x 3 points = 6, not 5
   for (int i = 0; i < 15; ++i) PutF(&wrong_total, 0.0f);
   expect_error(wrong_total, "header.point_count: 5 points, but the segment counts add up to 6");
+  // Issue 16: 140 bytes announcing 2^32 - 1 strands (and 1 point) are refused from the header,
+  // before any allocation (the reader used to resize to 17 GB first).
+  std::string huge = Header(0xFFFFFFFFu, 1, 2, 1, 1.0f);
+  for (int i = 0; i < 3; ++i) PutF(&huge, 0.0f);
+  ASSERT_EQ(huge.size(), 140u);
+  expect_error(huge, "header.strand_count: 4294967295 strands need at least 8589934590 points");
+  std::string odd = Header(2, 3, 2, 1, 1.0f);  // 2 strands need 4 points
+  for (int i = 0; i < 9; ++i) PutF(&odd, 0.0f);
+  expect_error(odd, "header.strand_count: 2 strands need at least 4 points");
   // Reading in an invalid unit.
   HairCurves c;
   std::string error;

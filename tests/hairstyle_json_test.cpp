@@ -415,6 +415,12 @@ std::vector<BadCase> BadCases() {
       {"seed_as_text", With(R"("masters": {"seed": "one"})"), "masters.seed", {}},
       {"huge_seed", With(R"("masters": {"seed": 1e20})"), "masters.seed", {}},
       {"negative_hair_seed", With(R"("hair": {"seed": -2})"), "hair.seed", {}},
+      // Issue 16: read as integers, 2^53 + 1 is not rounded to 2^53.
+      {"seed_beyond_2p53",
+       With(R"("masters": {"seed": 9007199254740993})"),
+       "masters.seed",
+       {"got 9007199254740993"}},
+      {"hair_seed_beyond_2p53", With(R"("hair": {"seed": 9007199254740993})"), "hair.seed", {}},
       // Grading: "auto" or a ratio >= 1.
       {"grading_below_one", With(R"("masters": {"grading": 0.5})"), "masters.grading", {"auto"}},
       {"grading_zero", With(R"("masters": {"grading": 0})"), "masters.grading", {}},

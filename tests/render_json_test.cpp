@@ -274,6 +274,32 @@ TEST(RenderJson, MemberOfADocument) {
   EXPECT_EQ(error, "expected a JSON object at the top level, got []");
   EXPECT_FALSE(ParseRenderMember(json::parse(R"({"render": {"width": -4}})"), &settings, &error));
   EXPECT_EQ(error, "render.width: expected an integer between 1 and 16384, got -4");
+  // Issue 16: a settings file (--settings) must hold settings; a hairstyle need not.
+  EXPECT_FALSE(ParseRenderMember(json::parse(R"({"width": 64})"), &settings, &error, true));
+  EXPECT_EQ(error.rfind("render: missing required field (expected an object", 0), 0u) << error;
+  EXPECT_TRUE(ParseRenderMember(json::parse(R"({"render": {}})"), &settings, &error, true))
+      << error;
+}
+
+// Issue 16: the seed is read as an integer: 2^53 + 1 is refused, not rounded to 2^53.
+TEST(RenderJson, SeedIsReadExactly) {
+  RenderSettings settings;
+  std::string error;
+  ASSERT_TRUE(ParseRenderSettings(json::parse(R"({"seed": 9007199254740992})"), "render", &settings,
+                                  &error))
+      << error;
+  EXPECT_EQ(settings.options.seed, std::uint64_t{1} << 53);
+  ASSERT_TRUE(
+      ParseRenderSettings(json::parse(R"({"seed": 12345678901})"), "render", &settings, &error))
+      << error;
+  EXPECT_EQ(settings.options.seed, 12345678901u);
+  for (const char* bad : {R"({"seed": 9007199254740993})", R"({"seed": -1})", R"({"seed": 1.5})",
+                          R"({"seed": 1e17})"}) {
+    EXPECT_FALSE(ParseRenderSettings(json::parse(bad), "render", &settings, &error)) << bad;
+    EXPECT_EQ(error.rfind("render.seed: expected an integer between 0 and 2^53, got ", 0), 0u)
+        << error;
+  }
+  EXPECT_EQ(settings.options.seed, 12345678901u);
 }
 
 TEST(RenderJson, HairstyleFilesMayHoldRenderSettings) {

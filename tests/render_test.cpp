@@ -680,6 +680,17 @@ TEST(RenderTest, RejectsBadInput) {
   AddStrand(&good_hair, Line(Vec3(-1.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), 3), 0.01);
   HairCurves bad_hair = good_hair;
   bad_hair.point_counts[0] = 2;
+  HairCurves far_hair = good_hair;
+  far_hair.points[1] = Vec3f::Constant(1e18f);
+  HairCurves wide_hair = good_hair;
+  wide_hair.widths[0] = 1e18f;
+  auto far_body = std::make_shared<Body>();
+  {
+    std::string why;
+    ASSERT_TRUE(
+        Body::Create({Sphere{Vec3(1e18, 1e18, 1e18), 1.0, "far"}}, {}, far_body.get(), &why))
+        << why;
+  }
   struct Case {
     const char* field;
     std::function<void(RenderScene*, RenderOptions*)> mutate;
@@ -687,7 +698,8 @@ TEST(RenderTest, RejectsBadInput) {
   const std::vector<Case> cases = {
       {"options.width", [](RenderScene*, RenderOptions* o) { o->width = 0; }},
       {"options.height", [](RenderScene*, RenderOptions* o) { o->height = -3; }},
-      {"options.samples_per_pixel", [](RenderScene*, RenderOptions* o) { o->samples_per_pixel = 0; }},
+      {"options.samples_per_pixel",
+       [](RenderScene*, RenderOptions* o) { o->samples_per_pixel = 0; }},
       {"options.max_bounces", [](RenderScene*, RenderOptions* o) { o->max_bounces = -1; }},
       {"options.threads", [](RenderScene*, RenderOptions* o) { o->threads = -2; }},
       {"options.tile_size", [](RenderScene*, RenderOptions* o) { o->tile_size = 0; }},
@@ -714,6 +726,13 @@ TEST(RenderTest, RejectsBadInput) {
        [](RenderScene* s, RenderOptions*) {
          s->environment.bottom.x() = std::numeric_limits<double>::infinity();
        }},
+      // Issue 16: coordinates Embree cannot trace (it asserted on ray.valid()) are refused.
+      {"hair.points[1]: expected coordinates within +-10000 m",
+       [&](RenderScene* s, RenderOptions*) { s->hair = &far_hair; }},
+      {"hair.widths[0]", [&](RenderScene* s, RenderOptions*) { s->hair = &wide_hair; }},
+      {"body.bounds.min", [&](RenderScene* s, RenderOptions*) { s->body = far_body; }},
+      {"camera.position",
+       [](RenderScene* s, RenderOptions*) { s->camera.position = Vec3(0.0, -1e18, 0.0); }},
   };
   for (const Case& c : cases) {
     RenderScene scene;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <stdlib.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -798,6 +799,170 @@ TEST(AtomicFile, ReadFileReadsWhatWasWritten) {
   std::string back;
   ASSERT_TRUE(ReadFile(path, &back, &error)) << error;
   EXPECT_EQ(back, big);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hostile input (issue 16, docs/robustness.md).
+
+// "[[...]]" nested depth levels deep inside {"strands": ...}.
+std::string Nested(int depth) {
+  return "{\"strands\": " + std::string(depth, '[') + std::string(depth, ']') + "}";
+}
+
+TEST(JsonReader, NestingIsLimitedWhileParsing) {
+  json document;
+  std::string error;
+  // The top-level object is level 1: 63 arrays inside it make 64 levels, the limit.
+  EXPECT_TRUE(internal::ParseJsonText(Nested(internal::kMaxJsonDepth - 1), &document, &error))
+      << error;
+  EXPECT_FALSE(internal::ParseJsonText(Nested(internal::kMaxJsonDepth), &document, &error));
+  EXPECT_NE(error.find("nested deeper than 64 levels"), std::string::npos) << error;
+  EXPECT_EQ(error.rfind("strands[0][0]", 0), 0u) << error;
+  // 70,000 levels (the tester's 140 KB file) stop at the same point, without recursion.
+  EXPECT_FALSE(internal::ParseJsonText(Nested(70000), &document, &error));
+  EXPECT_NE(error.find("nested deeper than 64 levels"), std::string::npos) << error;
+  EXPECT_LT(error.size(), 300u) << error;
+}
+
+TEST(JsonReader, ShowIsBoundedForDeepLongAndLargeValues) {
+  // Deep: built by hand (the parser would refuse it), walked without recursion.
+  json deep = json::array();
+  json* innermost = &deep;
+  for (int i = 0; i < 100000; ++i) {
+    innermost->push_back(json::array());
+    innermost = &innermost->back();
+  }
+  const std::string shown = internal::Show(deep);
+  EXPECT_LE(shown.size(), internal::kMaxShownCharacters);
+  EXPECT_EQ(shown.rfind("[[[[", 0), 0u) << shown;
+  EXPECT_EQ(shown.substr(shown.size() - 3), "...") << shown;
+  // The destructor of nlohmann's json is iterative (3.10 and later); release level by level
+  // anyway so that the test does not depend on it.
+  while (deep.is_array() && !deep.empty()) {
+    json inner = std::move(deep[0]);
+    deep = std::move(inner);
+  }
+  // Long string, big object: cut, and the cut is marked.
+  EXPECT_LE(internal::Show(json(std::string(10000000, 'a'))).size(), internal::kMaxShownCharacters);
+  json big = json::object();
+  for (int i = 0; i < 1000; ++i) big["key" + std::to_string(i)] = i;
+  const std::string big_shown = internal::Show(big);
+  EXPECT_LE(big_shown.size(), internal::kMaxShownCharacters);
+  EXPECT_EQ(big_shown.substr(big_shown.size() - 3), "...") << big_shown;
+  // Small values are shown whole, as compact ASCII JSON.
+  EXPECT_EQ(internal::Show(json::parse(R"({"a": [1, 2.5, "x\u00e9"], "b": {}, "c": []})")),
+            R"({"a":[1,2.5,"x\u00e9"],"b":{},"c":[]})");
+  EXPECT_EQ(internal::Show(json(-64)), "-64");
+}
+
+TEST(JsonReader, HugeKeysAreCutInPathsAndNotCompared) {
+  json d = MinimalScene();
+  d["strands"][0][std::string(10000000, 'k')] = 1;  // an unknown field with a 10 MB name
+  Scene scene;
+  std::string error;
+  EXPECT_FALSE(ParseScene(d, &scene, &error));
+  EXPECT_EQ(error.rfind("strands[0][\"kkkk", 0), 0u) << error.substr(0, 200);
+  EXPECT_NE(error.find("unknown field (known fields: length"), std::string::npos)
+      << error.substr(0, 200);
+  EXPECT_LT(error.size(), 400u);
+}
+
+TEST(JsonReader, IntegersAreReadExactly) {
+  internal::Reader reader;
+  const json object = json::parse(
+      R"({"exact": 9007199254740992, "beyond": 9007199254740993, "negative": -1,
+          "float": 15.0, "fraction": 15.5, "big_float": 4e9, "huge": 18446744073709551615})");
+  std::uint64_t value = 0;
+  ASSERT_TRUE(reader.ReadUnsigned(object, "", "exact", internal::kMaxExactInteger, "2^53", &value));
+  EXPECT_EQ(value, internal::kMaxExactInteger);
+  for (const char* key : {"beyond", "negative", "fraction", "big_float", "huge"}) {
+    EXPECT_FALSE(reader.ReadUnsigned(object, "", key, internal::kMaxExactInteger, "2^53", &value))
+        << key;
+    EXPECT_NE(reader.error().find(std::string(key) + ": expected an integer between 0 and 2^53"),
+              std::string::npos)
+        << reader.error();
+  }
+  EXPECT_EQ(value, internal::kMaxExactInteger);  // untouched on failure
+  ASSERT_TRUE(reader.ReadUnsigned(object, "", "float", internal::kMaxExactInteger, "2^53", &value));
+  EXPECT_EQ(value, 15u);
+  int small = 0;
+  EXPECT_TRUE(reader.ReadInteger(object, "", "float", 0, 100, &small));
+  EXPECT_EQ(small, 15);
+  EXPECT_FALSE(reader.ReadInteger(object, "", "huge", 0, 100, &small));
+  EXPECT_FALSE(reader.ReadInteger(object, "", "beyond", 0, 2147483647, &small));
+}
+
+TEST(SceneJson, TinyLengthNamesTheLengthNotTheAbsentGrading) {
+  json d = MinimalScene();
+  d["strands"][0]["length"] = 5e-324;  // the segment lengths underflow to 0
+  Scene scene;
+  std::string error;
+  EXPECT_FALSE(ParseScene(d, &scene, &error));
+  EXPECT_EQ(error.rfind("strands[0].length: is too small for 15 segments", 0), 0u) << error;
+  // With a grading, the grading is blamed (and shown).
+  d["strands"][0]["length"] = 1e-20;
+  d["strands"][0]["grading"] = 1e308;
+  d["strands"][0]["segments"] = 2;
+  EXPECT_FALSE(ParseScene(d, &scene, &error));
+  EXPECT_EQ(error.rfind("strands[0].grading: is too large for 2 segments", 0), 0u) << error;
+}
+
+TEST(AtomicFile, ReadFileRefusesWhatIsNotARegularFile) {
+  TempDirectory dir;
+  const std::string fifo = dir.path() + "/fifo.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string text, error;
+  // Returns at once (the FIFO has no writer: a blocking open would wait forever).
+  EXPECT_FALSE(ReadFile(fifo, &text, &error));
+  EXPECT_EQ(error, fifo + ": is a FIFO, not a regular file (inputs must be regular files)");
+  EXPECT_FALSE(ReadFile("/dev/zero", &text, &error));
+  EXPECT_EQ(error.rfind("/dev/zero: is a character device, not a regular file", 0), 0u) << error;
+  Scene scene;
+  EXPECT_FALSE(LoadScene(fifo, &scene, &error));
+  EXPECT_NE(error.find("is a FIFO"), std::string::npos) << error;
+}
+
+TEST(AtomicFile, ReadFileRefusesFilesAboveTheCap) {
+  TempDirectory dir;
+  const std::string path = dir.path() + "/data";
+  std::string error;
+  ASSERT_TRUE(WriteFileAtomically(path, std::string(1001, 'x'), false, &error)) << error;
+  std::string text = "untouched";
+  EXPECT_FALSE(ReadFile(path, &text, &error, 1000));
+  EXPECT_EQ(error, path +
+                       ": is 1001 bytes, more than the limit of 1000 bytes for this kind of "
+                       "file");
+  EXPECT_EQ(text, "untouched");
+  EXPECT_TRUE(ReadFile(path, &text, &error, 1001)) << error;
+  EXPECT_EQ(text.size(), 1001u);
+  EXPECT_EQ(FormatBytes(kMaxJsonFileBytes), "64 MiB");
+  EXPECT_EQ(FormatBytes(kMaxHairFileBytes), "1 GiB");
+}
+
+TEST(AtomicFile, OverwriteReplacesOnlyRegularFiles) {
+  TempDirectory dir;
+  const std::string fifo = dir.path() + "/fifo";
+  const std::string target = dir.path() + "/target";
+  const std::string link = dir.path() + "/link";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::ofstream(target) << "keep";
+  ASSERT_EQ(::symlink("target", link.c_str()), 0);
+  std::string error;
+  EXPECT_FALSE(WriteFileAtomically(fifo, "x", true, &error));
+  EXPECT_EQ(error, fifo + ": exists and is a FIFO; only a regular file may be replaced");
+  EXPECT_FALSE(WriteFileAtomically(link, "x", true, &error));
+  EXPECT_EQ(error, link + ": exists and is a symbolic link; only a regular file may be replaced");
+  EXPECT_FALSE(CheckReplaceable(link, true, &error));
+  struct stat info;
+  ASSERT_EQ(::lstat(fifo.c_str(), &info), 0);
+  EXPECT_TRUE(S_ISFIFO(info.st_mode));
+  ASSERT_EQ(::lstat(link.c_str(), &info), 0);
+  EXPECT_TRUE(S_ISLNK(info.st_mode));
+  EXPECT_EQ(ReadAll(target), "keep");
+  // The regular file is still replaced, and nothing else is left behind.
+  EXPECT_TRUE(WriteFileAtomically(target, "new", true, &error)) << error;
+  EXPECT_EQ(ReadAll(target), "new");
+  EXPECT_EQ(dir.Entries().size(), 3u);
 }
 
 }  // namespace

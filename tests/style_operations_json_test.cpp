@@ -201,9 +201,20 @@ TEST(StyleOperationsJson, BadListsNameTheField) {
        "operations[0].cut.plane.offset: missing required field"},
       // grow
       {R"([{"grow": {}}])", "operations[0].grow.step: missing required field"},
-      {R"([{"grow": {"step": -0.01}}])", "operations[0].grow.step: expected a finite number > 0"},
+      {R"([{"grow": {"step": -0.01}}])",
+       "operations[0].grow.step: expected a finite number in (0, 1] (m)"},
       {R"([{"grow": {"step": 0.01, "steps": 0}}])",
-       "operations[0].grow.steps: expected an integer between 1 and 100000"},
+       "operations[0].grow.steps: expected an integer between 1 and 1000"},
+      {R"([{"grow": {"step": 1e300}}])",
+       "operations[0].grow.step: expected a finite number in (0, 1] (m), got 1e+300"},
+      {R"([{"grow": {"step": 0.01, "steps": 1001}}])",
+       "operations[0].grow.steps: expected an integer between 1 and 1000"},
+      {R"([{"curl": {"radius": 1e-300, "pitch": 0}}])",
+       "operations[0].curl.radius: expected a helix with curvature and torsion at most 100000 "
+       "1/m"},
+      {R"([{"curl": {"radius": 0, "pitch": 1e-9}}])", "operations[0].curl.pitch: expected a helix"},
+      {R"([{"cut": {"plane": {"normal": [1e300, 1e300, 1e300], "offset": 0}}}])",
+       "operations[0].cut.plane.normal: expected a non-zero direction of finite length"},
       {R"([{"grow": {"step": 0.01, "steps": 2.5}}])",
        "operations[0].grow.steps: expected an integer"},
   };

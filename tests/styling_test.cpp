@@ -366,6 +366,29 @@ TEST(StylingTest, GrowAddsStepTimesSteps) {
   EXPECT_EQ(report.unconverged, 0);
 }
 
+// Issue 16: a grow within the step bounds that would exceed kMaxSegments is refused before any
+// re-solve, and leaves the state as it was.
+TEST(StylingTest, GrowBeyondTheSegmentLimitIsRefused) {
+  StyledHair state = Groomed(SmallStyle("caucasian", "wavy", 3, 0.1));
+  // A fine grid (1000 segments of 0.1 mm on master 1): 10 m of growth would append 100,000
+  // segments. The check comes before any re-solve, so the solutions need not match the grid.
+  state.masters.models[1].segment_lengths.assign(1000, 1e-4);
+  const StyledHair before = state;
+  OperationReport report;
+  std::string error;
+  EXPECT_FALSE(Grow(&state, kMaxGrowStep, 10, {}, nullptr, &report, &error));
+  EXPECT_EQ(error.rfind("grow.step: growing master 1 by 10 m in 10 steps would give it", 0), 0u)
+      << error;
+  EXPECT_NE(error.find("more than the limit of 100000"), std::string::npos) << error;
+  for (size_t i = 0; i < state.masters.models.size(); ++i) {
+    EXPECT_EQ(state.masters.models[i].segment_lengths, before.masters.models[i].segment_lengths);
+  }
+  // More than kMaxGrowLength in all is refused whatever the grid.
+  EXPECT_FALSE(Grow(&state, kMaxGrowStep, kMaxGrowSteps, {}, nullptr, &report, &error));
+  EXPECT_EQ(error.rfind("grow.step, grow.steps: expected at most 10 m of growth in all", 0), 0u)
+      << error;
+}
+
 TEST(StylingTest, BadParametersAreRejectedByName) {
   StyledHair state = Groomed(SmallStyle("caucasian", "wavy", 6, 0.15));
   const StyledHair before = state;
@@ -685,6 +708,32 @@ TEST(StylingTest, StyleOperationRejectsBadParametersByName) {
   grow.grow_steps = 1;
   grow.grow_step = std::numeric_limits<double>::infinity();
   rejects(grow, "grow.step");
+  // Issue 16: values that used to reach an assert or loop forever.
+  curl.selection = {};
+  curl.curl_radius = 1e-300;  // R^2 + c^2 underflows: curvature inf (WispRadius asserted)
+  curl.curl_pitch = 0.0;
+  rejects(curl, "curl.radius: expected a helix with curvature and torsion at most 100000 1/m");
+  curl.curl_radius = 1e-7;  // finite, but a radius of curvature of 0.1 um
+  rejects(curl, "curl.radius");
+  curl.curl_radius = 0.0;
+  curl.curl_pitch = 1e-9;  // a twist of 6e9 1/m
+  rejects(curl, "curl.pitch: expected a helix");
+  curl.curl_radius = 1e300;  // huge radii are straight, not an error
+  curl.curl_pitch = 1e300;
+  std::string huge_why;
+  EXPECT_TRUE(curl.IsValid(&huge_why)) << huge_why;
+  curl.curl_pitch = 0.02;
+  cut.cut_region.normal = Vec3::Constant(1e300);  // finite entries, infinite norm
+  rejects(cut, "cut.normal");
+  grow.grow_step = 1e300;  // looped forever
+  rejects(grow, "grow.step: expected a length in (0, 1] (m)");
+  grow.grow_step = kMaxGrowStep;
+  grow.grow_steps = kMaxGrowSteps + 1;
+  rejects(grow, "grow.steps: expected an integer from 1 to 1000");
+  grow.grow_steps = kMaxGrowSteps;  // 1000 m
+  rejects(grow, "grow.step, grow.steps: expected at most 10 m of growth in all");
+  grow.grow_steps = 10;
+  EXPECT_TRUE(grow.IsValid(&huge_why)) << huge_why;
   // Valid ones pass (anti-vacuity), including a selection whose bound needs the hair.
   std::string why;
   curl.selection = {};

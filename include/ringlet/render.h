@@ -73,6 +73,12 @@ enum class ShadowMode : std::uint8_t {
   kFibreTransmittance,
 };
 
+/// Largest |coordinate| (m) of anything Render traces: hair points and widths, the body's
+/// bounds, the camera's position and look-at point. Embree works in single precision and
+/// refuses rays beyond about 1.8e18; 10 km keeps every ray far inside that and still holds any
+/// scene of hair (docs/robustness.md).
+inline constexpr double kMaxSceneCoordinate = 1e4;
+
 /// What to render. The pointers must outlive the Render call.
 struct RenderScene {
   /// May be null (body only). Strands are Embree round linear curves (cones with round
@@ -122,7 +128,8 @@ struct RenderStats {
 };
 
 /// Renders the scene. Returns false with a one-line message in error (Embree failures, invalid
-/// options naming the field) and leaves image untouched.
+/// options naming the field, coordinates beyond kMaxSceneCoordinate) and leaves image
+/// untouched.
 bool Render(const RenderScene& scene, const RenderOptions& options, Image* image,
             RenderStats* stats, std::string* error);
 

@@ -66,14 +66,16 @@ struct RenderSettings {
 bool ParseRenderSettings(const nlohmann::json& object, const std::string& path,
                          RenderSettings* settings, std::string* error);
 
-/// The optional "render" member of a document (a hairstyle file or a file holding only
-/// {"render": {...}}): the defaults when absent. Other members are not looked at.
-bool ParseRenderMember(const nlohmann::json& document, RenderSettings* settings,
-                       std::string* error);
+/// The "render" member of a document (a hairstyle file or a file holding only
+/// {"render": {...}}): when absent, the defaults, or an error when required (a settings file
+/// without settings is a mistake). Other members are not looked at.
+bool ParseRenderMember(const nlohmann::json& document, RenderSettings* settings, std::string* error,
+                       bool required = false);
 
-/// Reads the file at path and parses its "render" member (ParseRenderMember). Syntax errors give
-/// line and column; every message starts with the path. Never throws.
-bool LoadRenderSettings(const std::string& path, RenderSettings* settings, std::string* error);
+/// Reads the file at path and parses its "render" member (ParseRenderMember, required or not).
+/// Syntax errors give line and column; every message starts with the path. Never throws.
+bool LoadRenderSettings(const std::string& path, RenderSettings* settings, std::string* error,
+                        bool required = false);
 
 /// "path_traced" / "fibre_transmittance" -> ShadowMode; false for other names.
 bool ParseShadowMode(const std::string& name, ShadowMode* mode);

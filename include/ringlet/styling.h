@@ -97,12 +97,29 @@ struct StrandSelection {
   bool Selects(int index, const Root& root) const;
 };
 
+/// Largest natural curvature and torsion a curl may give (1/m): a radius of curvature of 10 um,
+/// a fifth of a fibre's radius. A helix of radius R and pitch p has curvature
+/// R / (R^2 + c^2) and torsion c / (R^2 + c^2) (c = p / (2 pi)): both stay below the limit
+/// when R or |c| is at least 5 um (docs/robustness.md).
+inline constexpr double kMaxCurlCurvature = 1e5;
+/// Largest length one grow step adds (m).
+inline constexpr double kMaxGrowStep = 1.0;
+/// Most grow steps of one grow operation (each writes one step_NNN.hair).
+inline constexpr int kMaxGrowSteps = 1000;
+/// Most length one grow operation adds, step x steps (m): hair grows about 15 cm a year.
+inline constexpr double kMaxGrowLength = 10.0;
+
+/// Checks the helix of a curl: R >= 0 (or +infinity), p finite, not R = p = 0, and curvature
+/// and torsion (CurvatureFromHelix) finite and at most kMaxCurlCurvature. On failure *field is
+/// "radius" or "pitch", the value to blame, and *why says what was expected.
+bool CheckCurlHelix(double radius, double pitch, std::string* field, std::string* why);
+
 /// Curl: sets the natural curvature of the selected masters to the helix of radius R (m) and
 /// pitch p (m) (CurvatureFromHelix: kappa = R / (R^2 + c^2), tau = c / (R^2 + c^2),
 /// c = p / (2 pi)), as (-kappa, 0, tau) in the comb frame (BuildMasters' sign: the curl starts
 /// away from the head), updates their wisp radius (WispRadius with the new curliness, unless the
 /// hairstyle fixes it) and clearance, and re-solves them warm-started. R = +infinity straightens.
-/// Rejects R < 0 or NaN, a non-finite p, R = p = 0, and a bad selection.
+/// Rejects what CheckCurlHelix rejects and a bad selection.
 bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection& selection,
           const BatchOptions& batch, OperationReport* report, std::string* why);
 
@@ -185,7 +202,9 @@ bool CutBelow(StyledHair* state, double z, const CutOptions& options, const Batc
 /// as fine as the groom's. Where hair grows does not change the equilibrium (the natural
 /// curvature is uniform, so a strand of length L has the same energy however it came to be);
 /// the tip is where the warm start stays closest. `sequence`, when not null, receives the state
-/// after each step (steps entries). Rejects step <= 0 or non-finite, steps < 1.
+/// after each step (steps entries). Rejects a step outside (0, kMaxGrowStep], steps outside
+/// [1, kMaxGrowSteps], step x steps above kMaxGrowLength, and growth that would give a master
+/// more than kMaxSegments segments.
 bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
           std::vector<StyledHair>* sequence, OperationReport* report, std::string* why);
 
@@ -206,7 +225,8 @@ struct StyleOperation {
   /// Cut: the region kept and the options (Cut; CutBelow is a kAbovePlane region, n = +z).
   CutRegion cut_region;
   CutOptions cut;
-  /// Grow: `grow_steps` steps of `grow_step` (m, > 0) each (Grow).
+  /// Grow: `grow_steps` steps (1 to kMaxGrowSteps) of `grow_step` (m, in (0, kMaxGrowStep])
+  /// each, at most kMaxGrowLength in all (Grow).
   double grow_step = 0.0;
   int grow_steps = 10;
 

@@ -79,28 +79,27 @@ std::string Summary(const OperationReport& r) {
 }
 
 bool CheckCurl(double radius, double pitch, std::string* why) {
-  // R = +infinity (straight) is allowed; NaN fails the comparison.
-  if (!(radius >= 0.0)) {
-    return Fail(why,
-                "curl.radius: expected a number >= 0 (m; inf = straight), got " + Number(radius));
-  }
-  if (!std::isfinite(pitch)) {
-    return Fail(
-        why, "curl.pitch: expected a finite number (m; < 0 = left-handed), got " + Number(pitch));
-  }
   if (radius == 0.0 && pitch == 0.0) {
     return Fail(why, "curl.radius, curl.pitch: R = p = 0 is not a helix");
   }
-  return true;
+  std::string field, message;
+  if (CheckCurlHelix(radius, pitch, &field, &message)) return true;
+  return Fail(why, "curl." + field + ": " + message);
 }
 
 bool CheckGrow(double step, int steps, std::string* why) {
-  if (!(std::isfinite(step) && step > 0.0)) {
-    return Fail(why, "grow.step: expected a finite length > 0 (m), got " + Number(step));
+  if (!(std::isfinite(step) && step > 0.0 && step <= kMaxGrowStep)) {
+    return Fail(why, "grow.step: expected a length in (0, " + Number(kMaxGrowStep) + "] (m), got " +
+                         Number(step));
   }
-  if (steps < 1 || steps > 100000) {
-    return Fail(why,
-                "grow.steps: expected an integer from 1 to 100000, got " + std::to_string(steps));
+  if (steps < 1 || steps > kMaxGrowSteps) {
+    return Fail(why, "grow.steps: expected an integer from 1 to " + std::to_string(kMaxGrowSteps) +
+                         ", got " + std::to_string(steps));
+  }
+  if (!(step * steps <= kMaxGrowLength)) {
+    return Fail(why, "grow.step, grow.steps: expected at most " + Number(kMaxGrowLength) +
+                         " m of growth in all (step x steps), got " + Number(step) + " m x " +
+                         std::to_string(steps) + " = " + Number(step * steps) + " m");
   }
   return true;
 }
@@ -115,6 +114,37 @@ bool CheckCut(const CutRegion& region, const CutOptions& options, std::string* w
 }
 
 }  // namespace
+
+bool CheckCurlHelix(double radius, double pitch, std::string* field, std::string* why) {
+  const auto fail = [&](const char* name, const std::string& message) {
+    if (field) *field = name;
+    return Fail(why, message);
+  };
+  // R = +infinity (straight) is allowed; NaN fails the comparison.
+  if (!(radius >= 0.0)) {
+    return fail("radius", "expected a number >= 0 (m; inf = straight), got " + Number(radius));
+  }
+  if (!std::isfinite(pitch)) {
+    return fail("pitch", "expected a finite number (m; < 0 = left-handed), got " + Number(pitch));
+  }
+  if (radius == 0.0 && pitch == 0.0) return fail("radius", "R = p = 0 is not a helix");
+  // A tiny helix has a huge (or, once R^2 + c^2 underflows, infinite) curvature: refused here,
+  // before it reaches the models and the wisp radius.
+  const HelixCurvature k = CurvatureFromHelix(radius, pitch);
+  const auto too_tight = [&](const char* name, const char* what, double value) {
+    return fail(name, "expected a helix with curvature and torsion at most " +
+                          Number(kMaxCurlCurvature) +
+                          " 1/m (R or |p| / (2 pi) at least 5e-06 m), "
+                          "got R = " +
+                          Number(radius) + " m, p = " + Number(pitch) + " m (" + what + " " +
+                          (std::isfinite(value) ? Number(value) + " 1/m" : "not finite") + ")");
+  };
+  if (!(std::abs(k.curvature) <= kMaxCurlCurvature)) {
+    return too_tight("radius", "curvature", k.curvature);
+  }
+  if (!(std::abs(k.torsion) <= kMaxCurlCurvature)) return too_tight("pitch", "torsion", k.torsion);
+  return true;
+}
 
 bool WetOptions::IsValid(std::string* why) const {
   if (!(stiffness_factor > 0.0 && stiffness_factor <= 1.0)) {
@@ -325,7 +355,7 @@ double CutRegion::Inside(const Vec3& point) const {
 bool CutRegion::IsValid(std::string* why) const {
   switch (kind) {
     case Kind::kAbovePlane:
-      if (!normal.allFinite() || !(normal.norm() > 0.0)) {
+      if (!normal.allFinite() || !(normal.norm() > 0.0) || !std::isfinite(normal.norm())) {
         return Fail(why, "cut.normal: expected a finite non-zero vector");
       }
       if (!std::isfinite(offset)) return Fail(why, "cut.z: expected a finite height (m)");
@@ -544,11 +574,21 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
   const auto start = std::chrono::steady_clock::now();
   if (!CheckGrow(step, steps, why)) return false;
   const int n = static_cast<int>(state->masters.models.size());
-  // The longest segment of each master at the start: the grid resolution to keep.
+  // The longest segment of each master at the start: the grid resolution to keep. The growth
+  // appends about step * steps / max_segment segments: more than kMaxSegments in all is refused
+  // before any work (and before a loop that would never end).
   std::vector<double> max_segment(n);
   for (int i = 0; i < n; ++i) {
     const auto& l = state->masters.models[i].segment_lengths;
     max_segment[i] = *std::max_element(l.begin(), l.end());
+    const double segments =
+        static_cast<double>(l.size()) + 1.0 + (l.back() + step * steps) / max_segment[i] + steps;
+    if (!(segments <= kMaxSegments)) {
+      return Fail(why, "grow.step: growing master " + std::to_string(i) + " by " +
+                           Number(step * steps) + " m in " + std::to_string(steps) +
+                           " steps would give it about " + Number(segments) +
+                           " segments, more than the limit of " + std::to_string(kMaxSegments));
+    }
   }
   OperationReport r;
   r.name = "grow";

@@ -88,17 +88,24 @@ void SyncDirectory(const std::string& path) {
   ::close(fd);
 }
 
+// "a directory", "a FIFO", ...: what a non-regular file is, for messages.
+std::string FileKind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISLNK(mode)) return "a symbolic link";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISSOCK(mode)) return "a socket";
+  if (S_ISREG(mode)) return "a regular file";
+  return "a special file";
+}
+
 }  // namespace
 
-bool WriteFileAtomically(const std::string& path, const std::string& contents, bool overwrite,
-                         std::string* error) {
-  if (path.empty()) {
-    if (error) *error = "(empty path): cannot write a file without a name";
-    return false;
-  }
-  // Refuse early what the final step would refuse, with a clearer message.
+bool CheckReplaceable(const std::string& path, bool overwrite, std::string* error) {
+  // lstat: a symbolic link is judged as itself (rename would replace the link, not its target).
   struct stat existing;
-  if (::stat(path.c_str(), &existing) == 0) {
+  if (::lstat(path.c_str(), &existing) == 0) {
     if (S_ISDIR(existing.st_mode)) {
       if (error) *error = path + ": is a directory";
       return false;
@@ -107,7 +114,25 @@ bool WriteFileAtomically(const std::string& path, const std::string& contents, b
       if (error) *error = path + ": already exists";
       return false;
     }
+    if (!S_ISREG(existing.st_mode)) {
+      if (error) {
+        *error = path + ": exists and is " + FileKind(existing.st_mode) +
+                 "; only a regular file may be replaced";
+      }
+      return false;
+    }
   }
+  return true;
+}
+
+bool WriteFileAtomically(const std::string& path, const std::string& contents, bool overwrite,
+                         std::string* error) {
+  if (path.empty()) {
+    if (error) *error = "(empty path): cannot write a file without a name";
+    return false;
+  }
+  // Refuse early what the final step would refuse, with a clearer message.
+  if (!CheckReplaceable(path, overwrite, error)) return false;
 
   std::string temporary;
   int error_number = 0;
@@ -159,16 +184,46 @@ bool WriteFileAtomically(const std::string& path, const std::string& contents, b
   return true;
 }
 
-bool ReadFile(const std::string& path, std::string* contents, std::string* error) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+std::string FormatBytes(std::uint64_t bytes) {
+  constexpr std::uint64_t kMiB = std::uint64_t{1} << 20, kGiB = std::uint64_t{1} << 30;
+  if (bytes >= kGiB && bytes % kGiB == 0) return std::to_string(bytes / kGiB) + " GiB";
+  if (bytes >= kMiB && bytes % kMiB == 0) return std::to_string(bytes / kMiB) + " MiB";
+  return std::to_string(bytes) + " bytes";
+}
+
+bool ReadFile(const std::string& path, std::string* contents, std::string* error,
+              std::uint64_t max_bytes) {
+  // O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused just below. (On a
+  // regular file the flag changes nothing.)
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) return Fail(error, path, "cannot open", errno);
   struct stat info;
-  if (::fstat(fd, &info) == 0 && S_ISDIR(info.st_mode)) {
+  if (::fstat(fd, &info) != 0) {
+    const int error_number = errno;
     ::close(fd);
-    if (error) *error = path + ": is a directory, not a file";
+    return Fail(error, path, "cannot read", error_number);
+  }
+  if (!S_ISREG(info.st_mode)) {
+    ::close(fd);
+    if (error) {
+      *error = path + ": is " + FileKind(info.st_mode) + ", not a regular file (inputs must be " +
+               "regular files)";
+    }
     return false;
   }
+  const auto too_large = [&](const std::string& size) {
+    ::close(fd);
+    if (error) {
+      *error = path + ": is " + size + ", more than the limit of " + FormatBytes(max_bytes) +
+               " for this kind of file";
+    }
+    return false;
+  };
+  if (static_cast<std::uint64_t>(info.st_size) > max_bytes) {
+    return too_large(std::to_string(static_cast<std::uint64_t>(info.st_size)) + " bytes");
+  }
   std::string text;
+  text.reserve(static_cast<size_t>(info.st_size));
   char buffer[1 << 16];
   for (;;) {
     const ssize_t got = ::read(fd, buffer, sizeof(buffer));
@@ -179,6 +234,8 @@ bool ReadFile(const std::string& path, std::string* contents, std::string* error
       ::close(fd);
       return Fail(error, path, "cannot read", error_number);
     }
+    // The file may grow while it is read: the limit holds for what is read.
+    if (text.size() + static_cast<size_t>(got) > max_bytes) return too_large("larger");
     text.append(buffer, static_cast<size_t>(got));
   }
   ::close(fd);

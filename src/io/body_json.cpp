@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <initializer_list>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -115,18 +116,23 @@ bool ParseBodyObject(Reader& reader, const json& document, const std::string& pa
     return false;
   }
   if (sphere_array) {
-    spheres.resize(sphere_array->size());
+    // One sphere per element as it is read (not size() of them up front); names looked up in
+    // a map (a pairwise check would be quadratic in the number of spheres).
+    std::map<std::string, size_t> names;
     for (size_t i = 0; i < sphere_array->size(); ++i) {
-      if (!ParseSphere(reader, (*sphere_array)[i], Element(spheres_path, i), &spheres[i])) {
+      Sphere sphere;
+      if (!ParseSphere(reader, (*sphere_array)[i], Element(spheres_path, i), &sphere)) {
         return false;
       }
-      for (size_t j = 0; j < i; ++j) {
-        if (!spheres[i].name.empty() && spheres[j].name == spheres[i].name) {
+      if (!sphere.name.empty()) {
+        const auto [it, inserted] = names.emplace(sphere.name, i);
+        if (!inserted) {
           return reader.Fail(Member(Element(spheres_path, i), "name"),
-                             "\"" + spheres[i].name + "\" is already the name of " +
-                                 Element(spheres_path, j) + " (names must be unique)");
+                             "\"" + sphere.name + "\" is already the name of " +
+                                 Element(spheres_path, it->second) + " (names must be unique)");
         }
       }
+      spheres.push_back(std::move(sphere));
     }
   }
 

@@ -240,6 +240,15 @@ bool DecodeHairFile(std::string_view bytes, HairCurves* curves, std::string* err
                            std::to_string(expected) + " bytes)");
   }
   p += kHeaderSize;
+  // Every strand has at least 2 points, and the points are in the file (checked above): so a
+  // strand count above points / 2 is refused here, before anything is allocated for it, and
+  // every allocation below is bounded by the file's size.
+  if (strands > points / 2) {
+    return Fail(error, "header.strand_count: " + std::to_string(strands) +
+                           " strands need at least " + std::to_string(2 * uint64_t{strands}) +
+                           " points (2 per strand), but the header announces " +
+                           std::to_string(points) + " points");
+  }
 
   HairCurves out;
   out.point_counts.resize(strands);
@@ -319,7 +328,7 @@ bool DecodeHairFile(std::string_view bytes, HairCurves* curves, std::string* err
 bool ReadHairFile(const std::string& path, HairCurves* curves, std::string* error,
                   double units_per_metre) {
   std::string bytes;
-  if (!ReadFile(path, &bytes, error)) return false;
+  if (!ReadFile(path, &bytes, error, kMaxHairFileBytes)) return false;
   std::string why;
   if (!DecodeHairFile(bytes, curves, &why, units_per_metre)) {
     return Fail(error, path + ": " + why);

@@ -42,9 +42,6 @@ constexpr NumberRule kStiffnessRule{"a finite number >= 0 (N/m^2; 0 = the defaul
                                     [](double x) { return x >= 0.0; }};
 constexpr NumberRule kGradingRule{"a finite number >= 1 (last/first segment length) or \"auto\"",
                                   [](double x) { return x >= 1.0; }};
-constexpr NumberRule kSeedRule{"an integer between 0 and 2^53",
-                               [](double x) { return x >= 0.0 && x <= 9007199254740992.0 &&
-                                                     x == std::floor(x); }};
 constexpr NumberRule kPackingRule{"a finite number in (0, 0.69]",
                                   [](double x) { return x > 0.0 && x <= 0.69; }};
 constexpr NumberRule kLayerThicknessRule{"a finite number in [0, 0.1) (m)",
@@ -52,10 +49,7 @@ constexpr NumberRule kLayerThicknessRule{"a finite number in [0, 0.1) (m)",
 
 bool ReadSeed(Reader& reader, const json& object, const std::string& path, const char* key,
               std::uint64_t* seed) {
-  double value = static_cast<double>(*seed);
-  if (!reader.ReadNumber(object, path, key, kSeedRule, false, &value)) return false;
-  *seed = static_cast<std::uint64_t>(value);
-  return true;
+  return reader.ReadUnsigned(object, path, key, internal::kMaxExactInteger, "2^53", seed);
 }
 
 // "body": a file name (a body JSON file, docs/body.md) or the body object itself.
@@ -412,6 +406,11 @@ bool ParseCurlOperation(Reader& reader, const json& curl, const std::string& pat
   if (op->curl_radius == 0.0 && op->curl_pitch == 0.0) {
     return reader.Fail(path, "radius = pitch = 0 is not a helix");
   }
+  // A helix too tight to be hair (its curvature above kMaxCurlCurvature).
+  std::string field, why;
+  if (!CheckCurlHelix(op->curl_radius, op->curl_pitch, &field, &why)) {
+    return reader.Fail(Member(path, field), why);
+  }
   return true;
 }
 
@@ -464,8 +463,9 @@ bool ParseCutOperation(Reader& reader, const json& cut, const std::string& path,
             &region.offset)) {
       return false;
     }
-    if (!(region.normal.norm() > 0.0)) {
-      return reader.Expected(Member(p, "normal"), "a non-zero direction", plane->at("normal"));
+    if (!(region.normal.norm() > 0.0) || !std::isfinite(region.normal.norm())) {
+      return reader.Expected(Member(p, "normal"), "a non-zero direction of finite length",
+                             plane->at("normal"));
     }
   } else if (cut.contains("sphere")) {
     const json* sphere = nullptr;
@@ -499,9 +499,11 @@ bool ParseCutOperation(Reader& reader, const json& cut, const std::string& path,
 
 bool ParseGrowOperation(Reader& reader, const json& grow, const std::string& path,
                         StyleOperation* op) {
+  static constexpr NumberRule kGrowStepRule{"a finite number in (0, 1] (m)",
+                                            [](double x) { return x > 0.0 && x <= kMaxGrowStep; }};
   return reader.CheckFields(grow, path, {"step", "steps"}) &&
-         reader.ReadNumber(grow, path, "step", kPositiveLength, true, &op->grow_step) &&
-         reader.ReadInteger(grow, path, "steps", 1, 100000, &op->grow_steps);
+         reader.ReadNumber(grow, path, "step", kGrowStepRule, true, &op->grow_step) &&
+         reader.ReadInteger(grow, path, "steps", 1, kMaxGrowSteps, &op->grow_steps);
 }
 
 bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOperation>* out) {

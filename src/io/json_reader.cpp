@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <set>
 #include <utility>
+#include <vector>
 
 namespace ringlet::internal {
 namespace {
@@ -112,6 +113,12 @@ class DuplicateFinder {
   std::string duplicate_;
 };
 
+// Thrown by the parser callback to stop at a container nested deeper than kMaxJsonDepth, with
+// the path of the container.
+struct TooDeep {
+  std::string path;
+};
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -128,6 +135,15 @@ bool IsPlainKey(const std::string& key) {
 // The path of a member: "strands[0]" + "radius" -> "strands[0].radius"; odd keys are quoted
 // (escaped, ASCII only) so that a message always stays on one line: strands[0]["a\nb"].
 std::string Member(const std::string& path, const std::string& key) {
+  // A key of any length is shown cut to kMaxShownCharacters (marked with "...", and then always
+  // quoted), so that a path, too, stays short whatever the file holds.
+  if (key.size() > kMaxShownCharacters) {
+    return path + "[" +
+           Truncate(json(Truncate(key, kMaxShownCharacters))
+                        .dump(-1, ' ', true, json::error_handler_t::replace),
+                    kMaxShownCharacters + 8) +
+           "]";
+  }
   if (IsPlainKey(key)) return path.empty() ? key : path + "." + key;
   return path + "[" + json(key).dump(-1, ' ', true, json::error_handler_t::replace) + "]";
 }
@@ -145,10 +161,61 @@ std::string Truncate(std::string text, size_t max_bytes) {
   return text.substr(0, cut) + "...";
 }
 
+namespace {
+
+// A scalar (or an empty container) as compact ASCII JSON; a string is cut to max_bytes first, so
+// that a huge string costs no more than a short one.
+std::string ScalarText(const json& value, size_t max_bytes) {
+  if (value.is_string()) {
+    const std::string& text = value.get_ref<const std::string&>();
+    const std::string cut =
+        Truncate(text.substr(0, std::min(text.size(), max_bytes + 4)), max_bytes);
+    return json(cut).dump(-1, ' ', true, json::error_handler_t::replace);
+  }
+  if (value.is_object()) return "{}";
+  if (value.is_array()) return "[]";
+  return value.dump(-1, ' ', true, json::error_handler_t::replace);
+}
+
+}  // namespace
+
 // A value as quoted in a message: compact JSON, ASCII only (control characters escaped), cut to
-// kMaxShownCharacters.
+// kMaxShownCharacters. Containers are walked with an explicit stack (never recursively: a
+// document may be deeply nested) and the walk stops as soon as the text is long enough.
 std::string Show(const json& value) {
-  return Truncate(value.dump(-1, ' ', true, json::error_handler_t::replace), kMaxShownCharacters);
+  const size_t budget = kMaxShownCharacters + 1;  // one more: Truncate then marks the cut
+  struct Frame {
+    const json* container;
+    json::const_iterator next;
+    bool first;
+  };
+  std::vector<Frame> stack;
+  std::string out;
+  auto open = [&](const json& v) {
+    if ((v.is_object() || v.is_array()) && !v.empty()) {
+      out += v.is_object() ? '{' : '[';
+      stack.push_back(Frame{&v, v.cbegin(), true});
+    } else {
+      out += ScalarText(v, budget);
+    }
+  };
+  open(value);
+  while (!stack.empty() && out.size() < budget) {
+    Frame& top = stack.back();
+    if (top.next == top.container->cend()) {
+      out += top.container->is_object() ? '}' : ']';
+      stack.pop_back();
+      continue;
+    }
+    if (!top.first) out += ',';
+    top.first = false;
+    if (top.container->is_object()) out += ScalarText(json(top.next.key()), budget) + ':';
+    const json& child = *top.next;
+    ++top.next;
+    open(child);  // may push: top is not used after this
+  }
+  if (!stack.empty()) out += "...";  // cut inside a container: Truncate below marks it
+  return Truncate(out, kMaxShownCharacters);
 }
 
 // Levenshtein distance, for "did you mean" hints on misspelt fields.
@@ -192,16 +259,92 @@ std::string LineColumnText(const std::string& text, size_t byte) {
   return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
+namespace {
+
+// A SAX handler that builds the document with nlohmann's own DOM builder and, on the way, finds
+// duplicate members (DuplicateFinder) and stops at containers nested deeper than kMaxJsonDepth.
+// nlohmann's callback parser (json::parse with a callback) would give the depth too, but after
+// every object it scans the enclosing array for discarded values: quadratic in the length of an
+// array of objects (a 64-MiB "[{},{},...]" took hours).
+class CheckedDomBuilder {
+ public:
+  explicit CheckedDomBuilder(json* document) : dom_(*document, /*allow_exceptions=*/true) {}
+
+  const DuplicateFinder& duplicates() const { return finder_; }
+
+  bool null() { return Value() && dom_.null(); }
+  bool boolean(bool value) { return Value() && dom_.boolean(value); }
+  bool number_integer(json::number_integer_t value) {
+    return Value() && dom_.number_integer(value);
+  }
+  bool number_unsigned(json::number_unsigned_t value) {
+    return Value() && dom_.number_unsigned(value);
+  }
+  bool number_float(json::number_float_t value, const json::string_t& text) {
+    return Value() && dom_.number_float(value, text);
+  }
+  bool string(json::string_t& value) { return Value() && dom_.string(value); }
+  bool binary(json::binary_t& value) { return Value() && dom_.binary(value); }
+  bool start_object(std::size_t size) {
+    Open(json::parse_event_t::object_start);
+    return dom_.start_object(size);
+  }
+  bool key(json::string_t& name) {
+    finder_.OnEvent(json::parse_event_t::key, json(name));
+    return dom_.key(name);
+  }
+  bool end_object() {
+    Close(json::parse_event_t::object_end);
+    return dom_.end_object();
+  }
+  bool start_array(std::size_t size) {
+    Open(json::parse_event_t::array_start);
+    return dom_.start_array(size);
+  }
+  bool end_array() {
+    Close(json::parse_event_t::array_end);
+    return dom_.end_array();
+  }
+  template <class Exception>
+  bool parse_error(std::size_t position, const std::string& token, const Exception& e) {
+    return dom_.parse_error(position, token, e);  // throws e
+  }
+
+ private:
+  bool Value() { return finder_.OnEvent(json::parse_event_t::value, kNull); }
+  void Open(json::parse_event_t event) {
+    // The top-level container is level 1.
+    if (depth_ >= kMaxJsonDepth) throw TooDeep{finder_.PendingPath()};
+    ++depth_;
+    finder_.OnEvent(event, kNull);
+  }
+  void Close(json::parse_event_t event) {
+    --depth_;
+    finder_.OnEvent(event, kNull);
+  }
+
+  inline static const json kNull;
+  nlohmann::detail::json_sax_dom_parser<json> dom_;
+  DuplicateFinder finder_;
+  int depth_ = 0;
+};
+
+}  // namespace
+
 bool ParseJsonText(const std::string& text, nlohmann::json* out, std::string* error) {
   json document;
-  DuplicateFinder duplicates;
+  CheckedDomBuilder builder(&document);
+  const DuplicateFinder& duplicates = builder.duplicates();
   try {
-    document = json::parse(
-        text,
-        [&duplicates](int /*depth*/, json::parse_event_t event, json& parsed) {
-          return duplicates.OnEvent(event, parsed);
-        },
-        /*allow_exceptions=*/true, /*ignore_comments=*/false);
+    json::sax_parse(text, &builder, json::input_format_t::json, /*strict=*/true,
+                    /*ignore_comments=*/false);
+  } catch (const TooDeep& e) {
+    if (error) {
+      const std::string message = "invalid JSON: arrays and objects nested deeper than " +
+                                  std::to_string(kMaxJsonDepth) + " levels (the limit)";
+      *error = e.path.empty() ? message : Truncate(e.path, kMaxMessage) + ": " + message;
+    }
+    return false;
   } catch (const json::parse_error& e) {
     // nlohmann's text is "[json.exception.parse_error.101] parse error at line 2, column 0:
     // syntax error ..."; keep the part after the position, which is recomputed from the byte

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -25,6 +26,16 @@ constexpr size_t kMaxShownCharacters = 60;
 constexpr size_t kMaxMessage = 200;
 // Unknown fields this close (edit distance) to a known one get a "did you mean" hint.
 constexpr size_t kSuggestionDistance = 2;
+// Deepest nesting of arrays and objects in any JSON file ringlet reads (the top-level object is
+// depth 1; the deepest real file, a hairstyle with a cut plane, has depth 5). Checked while
+// parsing, so no deeper document is ever built (docs/robustness.md).
+constexpr int kMaxJsonDepth = 64;
+// Largest integer a JSON integer field may hold exactly (seeds): 2^53.
+constexpr std::uint64_t kMaxExactInteger = std::uint64_t{1} << 53;
+// Integral numbers written with a fraction or an exponent ("15.0", "1e3") are accepted as
+// integers only below this bound, where no float literal of a few digits rounds onto an integer
+// it does not denote; larger integers must be written as digits.
+constexpr double kMaxFloatInteger = 2147483648.0;  // 2^31
 
 // Keys made of letters, digits and underscores are shown bare; others are quoted.
 bool IsPlainKey(const std::string& key);
@@ -35,15 +46,18 @@ std::string Member(const std::string& path, const std::string& key);
 std::string Element(const std::string& path, size_t index);
 // text cut to at most max_bytes, at a UTF-8 character boundary, marked with "...".
 std::string Truncate(std::string text, size_t max_bytes);
-// A value as quoted in a message: compact JSON, ASCII only, cut to kMaxShownCharacters.
+// A value as quoted in a message: compact JSON, ASCII only, cut to kMaxShownCharacters. Walks
+// the value iteratively and stops once enough is written, so that any value (deep, long or
+// large) costs O(kMaxShownCharacters) time and no recursion.
 std::string Show(const json& value);
 // Levenshtein distance, for "did you mean" hints on misspelt fields.
 size_t EditDistance(const std::string& a, const std::string& b);
 // "line L, column C" of the 1-based byte position in text.
 std::string LineColumnText(const std::string& text, size_t byte);
 
-// Parses text into *document, refusing duplicate members; on failure *error gets one line with
-// the position ("line 3, column 14: invalid JSON: ...") or the duplicate's path. Never throws.
+// Parses text into *document, refusing duplicate members and nesting deeper than kMaxJsonDepth;
+// on failure *error gets one line with the position ("line 3, column 14: invalid JSON: ...") or
+// the path of the duplicate or of the too deep value. Never throws.
 bool ParseJsonText(const std::string& text, json* document, std::string* error);
 
 // What a number field accepts: always finite, and in range by accepts(); expected describes
@@ -74,6 +88,13 @@ class Reader {
       std::string hint;
       size_t best = kSuggestionDistance + 1;
       for (const char* k : known) {
+        // The distance is at least the difference of the lengths: skip what cannot be close
+        // (and a huge key's quadratic cost).
+        const size_t length = std::char_traits<char>::length(k);
+        if ((key.size() > length ? key.size() - length : length - key.size()) >
+            kSuggestionDistance) {
+          continue;
+        }
         const size_t d = EditDistance(key, k);
         if (d < best) {
           best = d;
@@ -115,17 +136,30 @@ class Reader {
                    int* out, bool* present = nullptr) {
     if (present) *present = false;
     const auto it = object.find(key);
-    const auto expected = [&] {
-      return "an integer between " + std::to_string(min) + " and " + std::to_string(max);
-    };
     if (it == object.end()) return true;
-    if (!it->is_number()) return Expected(Member(path, key), expected(), *it);
-    const double x = it->get<double>();
-    if (!std::isfinite(x) || x != std::floor(x) || x < min || x > max) {
-      return Expected(Member(path, key), expected(), *it);
+    std::int64_t value = 0;
+    if (!ExactInteger(*it, &value) || value < min || value > max) {
+      return Expected(Member(path, key),
+                      "an integer between " + std::to_string(min) + " and " + std::to_string(max),
+                      *it);
     }
-    *out = static_cast<int>(x);
+    *out = static_cast<int>(value);
     if (present) *present = true;
+    return true;
+  }
+
+  // An unsigned integer field in [0, max] (max <= kMaxExactInteger), read as an integer: a
+  // value the file states but a double cannot hold (2^53 + 1) is refused, never rounded.
+  bool ReadUnsigned(const json& object, const std::string& path, const char* key, std::uint64_t max,
+                    const char* max_text, std::uint64_t* out) {
+    const auto it = object.find(key);
+    if (it == object.end()) return true;
+    const std::string expected = std::string("an integer between 0 and ") + max_text;
+    std::int64_t value = 0;
+    if (!ExactInteger(*it, &value) || value < 0 || static_cast<std::uint64_t>(value) > max) {
+      return Expected(Member(path, key), expected, *it);
+    }
+    *out = static_cast<std::uint64_t>(value);
     return true;
   }
 
@@ -177,6 +211,26 @@ class Reader {
 
   bool Expected(const std::string& field, const std::string& expected, const json& got) {
     return Fail(field, "expected " + expected + ", got " + Show(got));
+  }
+
+  // The exact integer value of a JSON number: integer literals as they are (within int64),
+  // integral float literals ("15.0", "1e3") below kMaxFloatInteger. False otherwise.
+  static bool ExactInteger(const json& value, std::int64_t* out) {
+    if (value.is_number_unsigned()) {
+      const std::uint64_t u = value.get<std::uint64_t>();
+      if (u > static_cast<std::uint64_t>(INT64_MAX)) return false;
+      *out = static_cast<std::int64_t>(u);
+      return true;
+    }
+    if (value.is_number_integer()) {
+      *out = value.get<std::int64_t>();
+      return true;
+    }
+    if (!value.is_number_float()) return false;
+    const double x = value.get<double>();
+    if (!(std::abs(x) < kMaxFloatInteger) || x != std::floor(x)) return false;
+    *out = static_cast<std::int64_t>(x);
+    return true;
   }
 
  private:

@@ -2,9 +2,12 @@
 // object or group, polygons triangulated here (docs/body.md).
 #include <tiny_obj_loader.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -69,6 +72,116 @@ bool Triangulate(const std::vector<int>& polygon, const std::vector<Vec3>& verti
   return true;
 }
 
+// The tokens of one OBJ line, separated by blanks.
+std::vector<std::string_view> Tokens(std::string_view line) {
+  std::vector<std::string_view> tokens;
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    const size_t start = i;
+    while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
+    if (i > start) tokens.push_back(line.substr(start, i - start));
+  }
+  return tokens;
+}
+
+// A token shown in a message: printable ASCII only, cut to a few characters.
+std::string ShowToken(std::string_view token) {
+  std::string shown;
+  for (char c : token.substr(0, 24)) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    shown += u >= 0x20 && u < 0x7f ? c : '?';
+  }
+  return "\"" + shown + (token.size() > 24 ? "...\"" : "\"");
+}
+
+// Whether token is a whole finite number (strtod must use every character: "1.5x" is not).
+bool IsFiniteNumber(std::string_view token) {
+  const std::string text(token);
+  char* end = nullptr;
+  errno = 0;
+  const double x = std::strtod(text.c_str(), &end);
+  return end == text.c_str() + text.size() && !text.empty() && std::isfinite(x) && errno == 0;
+}
+
+// Whether token is a whole non-zero integer that fits an int ("8x" is not).
+bool IsIndex(std::string_view token) {
+  const std::string text(token);
+  char* end = nullptr;
+  errno = 0;
+  const long long i = std::strtoll(text.c_str(), &end, 10);
+  return !text.empty() && end == text.c_str() + text.size() && errno == 0 && i != 0 &&
+         i >= -2147483647LL && i <= 2147483647LL;
+}
+
+// tinyobjloader reads what it cannot parse as 0 ("nan", "abc", a missing coordinate) and stops
+// at the first non-digit of an index ("8x" -> 8), so the vertex and face lines are checked here
+// first: v lines hold 3 finite coordinates (optionally a weight, or an RGB colour), f lines
+// vertex references v, v/vt, v//vn or v/vt/vn made of non-zero integers. Other lines are left to
+// tinyobjloader. On failure *error gets "line N: ...".
+bool CheckObjText(const std::string& text, std::string* error) {
+  size_t line_number = 0;
+  size_t start = 0;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    std::string_view line(text.data() + start, end - start);
+    start = end + 1;
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    const size_t comment = line.find('#');
+    if (comment != std::string_view::npos) line = line.substr(0, comment);
+    const std::vector<std::string_view> tokens = Tokens(line);
+    if (tokens.empty()) continue;
+    const std::string at = "line " + std::to_string(line_number) + ": ";
+    if (tokens[0] == "v") {
+      const size_t n = tokens.size() - 1;
+      if (n != 3 && n != 4 && n != 6) {
+        *error =
+            at + "vertex: expected 3 coordinates x y z (m), got " + std::to_string(n) + " values";
+        return false;
+      }
+      for (size_t k = 1; k < tokens.size(); ++k) {
+        if (!IsFiniteNumber(tokens[k])) {
+          *error = at + "vertex: expected finite numbers, got " + ShowToken(tokens[k]);
+          return false;
+        }
+      }
+    } else if (tokens[0] == "f") {
+      if (tokens.size() < 4) {
+        *error =
+            at + "face: expected at least 3 vertices, got " + std::to_string(tokens.size() - 1);
+        return false;
+      }
+      for (size_t k = 1; k < tokens.size(); ++k) {
+        // v, v/vt, v//vn or v/vt/vn: the vertex index is required, the others optional.
+        const std::string_view ref = tokens[k];
+        const size_t first = ref.find('/');
+        const std::string_view v = ref.substr(0, first);
+        bool good = IsIndex(v);
+        if (good && first != std::string_view::npos) {
+          const std::string_view rest = ref.substr(first + 1);
+          const size_t second = rest.find('/');
+          const std::string_view vt = rest.substr(0, second);
+          good = vt.empty() ? second != std::string_view::npos : IsIndex(vt);
+          if (good && second != std::string_view::npos) {
+            const std::string_view vn = rest.substr(second + 1);
+            good = IsIndex(vn);
+          }
+        }
+        if (!good) {
+          *error = at +
+                   "face: expected vertex references v, v/vt, v//vn or v/vt/vn (non-zero "
+                   "integers), got " +
+                   ShowToken(ref);
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 bool LoadObjMeshes(const std::string& path, std::vector<TriangleMesh>* meshes, std::string* error) {
@@ -77,7 +190,9 @@ bool LoadObjMeshes(const std::string& path, std::vector<TriangleMesh>* meshes, s
     return false;
   };
   std::string text;
-  if (!ReadFile(path, &text, error)) return false;
+  if (!ReadFile(path, &text, error, kMaxObjFileBytes)) return false;
+  std::string text_error;
+  if (!CheckObjText(text, &text_error)) return fail(text_error);
 
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;

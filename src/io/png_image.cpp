@@ -157,7 +157,8 @@ bool ReadPng(const std::string& path, Image* image, std::string* error) {
     return false;
   };
   std::string bytes;
-  if (!ReadFile(path, &bytes, error)) return false;
+  // The largest image ringlet writes (16384 x 16384 RGB) is well below 1 GiB.
+  if (!ReadFile(path, &bytes, error, std::uint64_t{1} << 30)) return false;
   if (bytes.size() < 8 ||
       png_sig_cmp(reinterpret_cast<png_const_bytep>(bytes.data()), 0, 8) != 0) {
     return fail("not a PNG file (bad signature)");

@@ -35,9 +35,6 @@ constexpr NumberRule kRoughnessRule{"a finite number in (0, 1]",
                                     [](double x) { return x > 0.0 && x <= 1.0; }};
 constexpr NumberRule kTiltRule{"a finite number in [-10, 10] (degrees)",
                                [](double x) { return x >= -10.0 && x <= 10.0; }};
-constexpr NumberRule kSeedRule{"an integer between 0 and 2^53",
-                               [](double x) { return x >= 0.0 && x <= 9007199254740992.0 &&
-                                                     x == std::floor(x); }};
 
 // Largest image side (pixels) and sample count accepted from a file.
 constexpr int kMaxImageSide = 16384;
@@ -218,18 +215,17 @@ bool ParseRenderObject(Reader& reader, const json& object, const std::string& pa
   }
   RenderSettings settings = *out;
   RenderOptions& options = settings.options;
-  double seed = static_cast<double>(options.seed);
   if (!reader.ReadInteger(object, path, "width", 1, kMaxImageSide, &options.width) ||
       !reader.ReadInteger(object, path, "height", 1, kMaxImageSide, &options.height) ||
       !reader.ReadInteger(object, path, "samples_per_pixel", 1, kMaxSamplesPerPixel,
                           &options.samples_per_pixel) ||
-      !reader.ReadNumber(object, path, "seed", kSeedRule, false, &seed) ||
+      !reader.ReadUnsigned(object, path, "seed", internal::kMaxExactInteger, "2^53",
+                           &options.seed) ||
       !reader.ReadInteger(object, path, "max_bounces", 0, kMaxBounces, &options.max_bounces) ||
       !reader.ReadNumber(object, path, "exposure", kExposureRule, false, &settings.exposure) ||
       !ReadRgb(reader, object, path, "body_albedo", 1.0, "reflectance", &settings.body_albedo)) {
     return false;
   }
-  options.seed = static_cast<std::uint64_t>(seed);
   std::string shadows;
   bool present = false;
   const char* expected = "one of \"path_traced\", \"fibre_transmittance\"";
@@ -295,23 +291,31 @@ bool ParseRenderSettings(const nlohmann::json& object, const std::string& path,
   return false;
 }
 
-bool ParseRenderMember(const nlohmann::json& document, RenderSettings* settings,
-                       std::string* error) {
+bool ParseRenderMember(const nlohmann::json& document, RenderSettings* settings, std::string* error,
+                       bool required) {
   if (!document.is_object()) {
     if (error) *error = "expected a JSON object at the top level, got " + internal::Show(document);
     return false;
   }
   const auto it = document.find("render");
-  if (it == document.end()) return true;
+  if (it == document.end()) {
+    if (required && error) {
+      *error =
+          "render: missing required field (expected an object of render settings "
+          "{\"width\": ..., \"camera\": ..., ...})";
+    }
+    return !required;
+  }
   return ParseRenderSettings(*it, "render", settings, error);
 }
 
-bool LoadRenderSettings(const std::string& path, RenderSettings* settings, std::string* error) {
+bool LoadRenderSettings(const std::string& path, RenderSettings* settings, std::string* error,
+                        bool required) {
   std::string text, why;
   if (!ReadFile(path, &text, error)) return false;
   json document;
   if (!internal::ParseJsonText(text, &document, &why) ||
-      !ParseRenderMember(document, settings, &why)) {
+      !ParseRenderMember(document, settings, &why, required)) {
     if (error) *error = path + ": " + why;
     return false;
   }

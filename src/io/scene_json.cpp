@@ -128,13 +128,19 @@ bool ParseSegments(Reader& reader, const json& strand, const std::string& path, 
   const auto it = strand.find("segment_lengths");
   if (it == strand.end()) {
     model->segment_lengths = GradedSegments(length, segments, grading);
-    // An extreme grading can make the first segment underflow.
+    // An extreme grading, or a tiny length, can make a segment length underflow. The field to
+    // blame is the grading when there is one, the length otherwise (read through find: an
+    // absent member must never be indexed).
     for (double l : model->segment_lengths) {
       if (!(std::isfinite(l) && l > 0.0)) {
-        return reader.Fail(Member(path, "grading"),
-                           "is too large for " + std::to_string(segments) +
-                               " segments: some segment lengths are not representable, got " +
-                               Show(strand["grading"]));
+        const std::string counted = " for " + std::to_string(segments) +
+                                    " segments: some segment lengths are not representable, got ";
+        if (has_grading) {
+          return reader.Fail(Member(path, "grading"),
+                             "is too large" + counted + Show(*strand.find("grading")));
+        }
+        return reader.Fail(Member(path, "length"),
+                           "is too small" + counted + Show(*strand.find("length")));
       }
     }
     return true;
@@ -263,11 +269,12 @@ bool ParseSceneDocument(Reader& reader, const json& document, Scene* out) {
     return reader.Expected("strands", expected, *strands);
   }
   Scene scene;
-  scene.strands.resize(strands->size());
+  // One model per strand as it is read, not strands->size() of them up front: a 64-MiB file of
+  // "{}," would otherwise ask for 22 million models (~8 GB) before the first error.
   for (size_t i = 0; i < strands->size(); ++i) {
-    if (!ParseStrand(reader, (*strands)[i], Element("strands", i), gravity, &scene.strands[i])) {
-      return false;
-    }
+    StrandModel model;
+    if (!ParseStrand(reader, (*strands)[i], Element("strands", i), gravity, &model)) return false;
+    scene.strands.push_back(std::move(model));
   }
   if (!internal::ParseSolverObject(reader, document, "", &scene.solver)) return false;
   *out = std::move(scene);

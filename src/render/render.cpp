@@ -255,6 +255,25 @@ bool CheckInt(long long value, long long min, long long max, const char* field, 
   return false;
 }
 
+// Whether every coordinate of p lies within kMaxSceneCoordinate (false for NaN).
+template <typename Vector>
+bool WithinScene(const Vector& p) {
+  for (int c = 0; c < 3; ++c) {
+    if (!(std::abs(static_cast<double>(p[c])) <= kMaxSceneCoordinate)) return false;
+  }
+  return true;
+}
+
+// "field: expected coordinates within +-1e4 m (the renderer's limit), got (x, y, z)".
+template <typename Vector>
+bool OutsideScene(const std::string& field, const Vector& p, std::string* why) {
+  std::ostringstream message;
+  message << field << ": expected coordinates within +-" << kMaxSceneCoordinate
+          << " m (the renderer's limit), got (" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+  *why = message.str();
+  return false;
+}
+
 // Checks everything Render relies on; one line naming the field on failure.
 bool CheckInputs(const RenderScene& scene, const RenderOptions& options, PinholeCamera* camera,
                  std::string* why) {
@@ -278,6 +297,30 @@ bool CheckInputs(const RenderScene& scene, const RenderOptions& options, Pinhole
       *why = "hair.points: more than 2^32 - 2 points (Embree's 32-bit indices)";
       return false;
     }
+    // Embree asserts on rays it cannot represent: every coordinate is bounded first.
+    for (size_t i = 0; i < scene.hair->points.size(); ++i) {
+      if (!WithinScene(scene.hair->points[i])) {
+        return OutsideScene("hair.points[" + std::to_string(i) + "]", scene.hair->points[i], why);
+      }
+      if (!(scene.hair->widths[i] <= kMaxSceneCoordinate)) {
+        std::ostringstream message;
+        message << "hair.widths[" << i << "]: expected at most " << kMaxSceneCoordinate
+                << " m (the renderer's limit), got " << scene.hair->widths[i];
+        *why = message.str();
+        return false;
+      }
+    }
+  }
+  if (scene.body != nullptr && !scene.body->Bounds().isEmpty()) {
+    const Box3& bounds = scene.body->Bounds();
+    if (!WithinScene(bounds.min())) return OutsideScene("body.bounds.min", bounds.min(), why);
+    if (!WithinScene(bounds.max())) return OutsideScene("body.bounds.max", bounds.max(), why);
+  }
+  if (!WithinScene(scene.camera.position)) {
+    return OutsideScene("camera.position", scene.camera.position, why);
+  }
+  if (!WithinScene(scene.camera.look_at)) {
+    return OutsideScene("camera.look_at", scene.camera.look_at, why);
   }
   if (!CheckRgb(scene.body_albedo, "body_albedo", 1.0, why)) return false;
   const KeyLight& key = scene.key;
