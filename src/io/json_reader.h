@@ -27,7 +27,7 @@ constexpr size_t kMaxMessage = 200;
 // Unknown fields this close (edit distance) to a known one get a "did you mean" hint.
 constexpr size_t kSuggestionDistance = 2;
 // Deepest nesting of arrays and objects in any JSON file ringlet reads (the top-level object is
-// depth 1; the deepest real file, a hairstyle with a cut plane, has depth 5). Checked while
+// depth 1; the deepest real file, a hairstyle with a cut plane, has depth 6). Checked while
 // parsing, so no deeper document is ever built (docs/robustness.md).
 constexpr int kMaxJsonDepth = 64;
 // Largest integer a JSON integer field may hold exactly (seeds): 2^53.
