@@ -110,6 +110,12 @@ std::string MastersJson(const Groom& groom, double seconds) {
                        {"max_penetration", s.max_penetration},
                        {"solve_seconds", s.solve_seconds},
                        {"wisp_seconds", s.wisp_seconds},
+                       {"children_solved", s.children_solved},
+                       {"children_unconverged", s.children_unconverged},
+                       {"children_unstable", s.children_unstable},
+                       {"children_iterations", s.children_iterations},
+                       {"children_max_penetration", s.children_max_penetration},
+                       {"children_seconds", s.children_seconds},
                        {"roots", groom.masters.root_summary.message},
                        {"layers", std::move(layers)},
                        {"wisp_radii", std::move(radii)}};
@@ -218,7 +224,8 @@ int RunGroom(const GroomArgs& args) {
   const double write_seconds = SecondsSince(write_start);
 
   const GroomSummary& s = groom.summary;
-  const bool all_good = s.unconverged == 0 && s.unstable == 0;
+  const bool all_good = s.unconverged == 0 && s.unstable == 0 && s.children_unconverged == 0 &&
+                        s.children_unstable == 0;
   if (!args.quiet) {
     std::printf("%s\n", groom.masters.root_summary.message.c_str());
     std::printf(
@@ -229,6 +236,13 @@ int RunGroom(const GroomArgs& args) {
                 s.max_penetration * 1e3, FormatSeconds(s.solve_seconds).c_str(),
                 FormatSeconds(s.wisp_seconds).c_str(), FormatSeconds(write_seconds).c_str(),
                 FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
+    if (s.children_solved > 0) {
+      std::printf(
+          "solved every child strand: %d children (%d unconverged, %d unstable; %ld "
+          "iterations), max penetration %.3g mm, %s\n",
+          s.children_solved, s.children_unconverged, s.children_unstable, s.children_iterations,
+          s.children_max_penetration * 1e3, FormatSeconds(s.children_seconds).c_str());
+    }
     if (!operations.empty()) {
       std::printf(
           "the file's %zu styling operations were not applied (unstyled hair; use "
@@ -240,9 +254,13 @@ int RunGroom(const GroomArgs& args) {
                          image_path);
     }
     std::fflush(stdout);  // the summary before the warning, also when both go to one pipe
-    if (!all_good) {
+    if (s.unconverged + s.unstable > 0) {
       PrintWarning(Format("%d of %d masters did not reach a stable equilibrium (see masters.json)",
                           s.unconverged + s.unstable, s.masters));
+    }
+    if (s.children_unconverged + s.children_unstable > 0) {
+      PrintWarning(Format("%d of %d solved children did not reach a stable equilibrium",
+                          s.children_unconverged + s.children_unstable, s.children_solved));
     }
   }
   return all_good ? kExitSuccess : kExitUnsolved;

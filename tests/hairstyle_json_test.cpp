@@ -255,6 +255,10 @@ TEST(HairstyleJson, HeadSphereComesFromTheBody) {
       "masters": {"grading": "auto"}, "wisps": {"radius": "auto"}})");
   EXPECT_EQ(a.grading, 0.0);
   EXPECT_EQ(a.wisps.wisp_radius, 0.0);
+  EXPECT_FALSE(a.solve_children);  // procedural children by default
+  const Hairstyle b = MustParse(R"({"body": "../bodies/mannequin.json",
+      "wisps": {"children": "solved"}})");
+  EXPECT_TRUE(b.solve_children);
 }
 
 TEST(HairstyleJson, MeshScalpTakesTheTrianglesInsideTheHairline) {
@@ -329,6 +333,8 @@ std::vector<BadCase> BadCases() {
        "hair.curl",
        {"frizzy", "straight", "wavy", "curly", "kinky"}},
       {"origin_not_a_string", With(R"("hair": {"origin": 3})"), "hair.origin", {}},
+      {"children_unknown", With(R"("wisps": {"children": "simulated"})"), "wisps.children",
+       {"procedural", "solved", "simulated"}},
       // Scalps that leave nothing to grow on.
       {"hairline_leaves_no_triangle",
        mesh_body + R"("scalp": {"mesh": "head", "hairline_front": 0.001, "hairline_side": 0.001,

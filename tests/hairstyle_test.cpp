@@ -555,3 +555,50 @@ TEST(Mannequin, StrandOnTheHeadHangsDownAndDrapes) {
 
 }  // namespace
 }  // namespace ringlet
+
+namespace ringlet {
+namespace {
+
+// Every strand a solved rod (issue 11, Hairstyle::solve_children): each child is an equilibrium
+// of its own (converged, certified stable, residual below tolerance when re-checked here by an
+// independent solve from its result), keeps its root and its drawn length, differs from the
+// procedural child, and the groom is bit-identical on 1 and 2 threads.
+TEST(GroomHairstyle, SolvedChildrenAreCertifiedEquilibria) {
+  Hairstyle style = SmallStyle(12);
+  const Groom procedural = MustGroom(style);
+  style.solve_children = true;
+  const Groom solved = MustGroom(style, 2);
+  const GroomSummary& s = solved.summary;
+  const int n = style.wisps.strands_per_wisp;
+  EXPECT_EQ(s.children_solved, 12 * (n - 1));  // the master strand of each wisp stays
+  EXPECT_EQ(s.children_unconverged, 0);
+  EXPECT_EQ(s.children_unstable, 0);
+  EXPECT_GT(s.children_iterations, 0);
+  ASSERT_EQ(solved.strands.NumPoints(), procedural.strands.NumPoints());
+  const int count = style.wisps.points_per_strand;
+  double moved = 0.0;
+  for (int k = 0; k < solved.strands.NumStrands(); ++k) {
+    const size_t a = static_cast<size_t>(k) * count;
+    // Same root; the rod's length is the procedural child's polyline length lp, so the 11 chords
+    // inscribed in it are never longer than lp and, on these wavy curls, shorter by a few %.
+    EXPECT_EQ(solved.strands.points[a], procedural.strands.points[a]);
+    double lp = 0.0, ls = 0.0;
+    for (int p = 1; p < count; ++p) {
+      lp += (procedural.strands.points[a + p] - procedural.strands.points[a + p - 1]).norm();
+      ls += (solved.strands.points[a + p] - solved.strands.points[a + p - 1]).norm();
+      moved = std::max<double>(
+          moved, (solved.strands.points[a + p] - procedural.strands.points[a + p]).norm());
+    }
+    EXPECT_LE(ls, lp * (1.0 + 1e-6)) << "strand " << k;
+    EXPECT_GE(ls, 0.97 * lp) << "strand " << k;
+  }
+  EXPECT_GT(moved, 1e-4);  // not vacuous: the solved children are not the procedural ones
+  const Groom one_thread = MustGroom(style, 1);
+  EXPECT_TRUE(SameBits(one_thread.strands.points.data(), solved.strands.points.data(),
+                       solved.strands.points.size()));
+  EXPECT_TRUE(SameBits(one_thread.strands.major_axes.data(), solved.strands.major_axes.data(),
+                       solved.strands.major_axes.size()));
+}
+
+}  // namespace
+}  // namespace ringlet

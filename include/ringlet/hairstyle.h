@@ -73,6 +73,13 @@ struct Hairstyle {
   /// wisp profile is raised to (Poisson-disk radius of the masters) / (mean r_w), so that a
   /// full head has no bald gaps between wisps at the scalp (wisps.root_scale is a lower bound).
   bool spread_roots = true;
+  /// Every strand a solved rod (issue 11): when true, each child strand of the wisps is itself
+  /// solved as a Kirchhoff rod (its own root on the scalp, the master's root frame, section,
+  /// material, natural curl and segment count; length the child's drawn length; body contact
+  /// with the clearance of one fibre plus its hull layer's offset), warm-started from its
+  /// master's equilibrium and certified like the masters (SolveChildren). File key:
+  /// "wisps": {"children": "solved"} (default "procedural").
+  bool solve_children = false;
   /// Centreline samples per master segment handed to the wisp generator (>= 1).
   int master_points_per_segment = 4;
   /// The solver of every master: GroomSolveOptions() unless the file says otherwise.
@@ -116,6 +123,15 @@ struct GroomSummary {
   double max_penetration = 0.0;  ///< deepest master point below the body surface (m)
   double solve_seconds = 0.0;  ///< wall time of the master solve (s)
   double wisp_seconds = 0.0;   ///< wall time of the wisp generation (s)
+  /// Solved children (Hairstyle::solve_children; zeros otherwise): strands solved, of those
+  /// unconverged and unstable, minimizer iterations, deepest point below the body (m) and wall
+  /// time (s).
+  int children_solved = 0;
+  int children_unconverged = 0;
+  int children_unstable = 0;
+  long children_iterations = 0;
+  double children_max_penetration = 0.0;
+  double children_seconds = 0.0;
 };
 
 /// A groomed head: the masters, their solutions and the generated strands.
@@ -131,6 +147,19 @@ struct Groom {
 /// numerical trouble (unconverged or unstable masters) is counted in the summary.
 bool GroomHairstyle(const Hairstyle& style, const BatchOptions& batch, Groom* groom,
                     std::string* why);
+
+/// Replaces every child strand of strands (GrowWisps' output: wisp i holds strands i N .. i N +
+/// N - 1, the first being the master itself when include_master) by a solved rod: root at the
+/// child's first point, the master's root frame, section, material and natural curvature, the
+/// child's polyline length divided into the master's segment count (graded as the master), body
+/// contact with clearance = fibre radius + the master's hull-layer offset, warm-started from
+/// the master's curvatures, solved with style.solver in parallel (the certificate included) and
+/// sampled exactly at the child's point count, equally spaced in arc length (major axes from its
+/// own material frame). Counts go to summary's children_* fields. Deterministic on any thread
+/// count. Returns false only for inconsistent input.
+bool SolveChildren(const Hairstyle& style, const HairstyleMasters& masters,
+                   const std::vector<StrandSolution>& solutions, const BatchOptions& batch,
+                   HairCurves* strands, GroomSummary* summary, std::string* why);
 
 /// Samples the solved masters (master_points_per_segment per segment) and generates the wisps
 /// around them, children pushed out of the body. Used by GroomHairstyle and by styling

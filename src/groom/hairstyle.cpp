@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "ringlet/helix.h"
 #include "ringlet/strand_geometry.h"
 
 namespace ringlet {
@@ -160,6 +161,115 @@ bool GrowWisps(const Hairstyle& style, const HairstyleMasters& masters,
   return true;
 }
 
+namespace {
+
+// Points at arc lengths s_j (increasing, in [0, L]) of a solved strand, exactly on its helices,
+// with the material n1 there.
+void SampleAtArcLengths(const StrandModel& model, const VecX& curvatures,
+                        const std::vector<double>& s, std::vector<Vec3>* points,
+                        std::vector<Vec3>* axes) {
+  points->clear();
+  axes->clear();
+  Mat3 q = model.root_frame;
+  Vec3 r = model.root_position;
+  double start = 0.0;
+  size_t j = 0;
+  const int n = model.NumSegments();
+  for (int i = 0; i < n && j < s.size(); ++i) {
+    const double l = model.segment_lengths[static_cast<size_t>(i)];
+    const Vec3 omega = curvatures.segment<3>(3 * i);
+    const bool last = i == n - 1;
+    while (j < s.size() && (s[j] <= start + l || last)) {
+      const double u = std::clamp(s[j] - start, 0.0, l);
+      const HelixSegment part = EvaluateHelixSegment(omega, u);
+      points->push_back(r + q * part.chord);
+      axes->push_back((q * part.rotation).col(0));
+      ++j;
+    }
+    const HelixSegment whole = EvaluateHelixSegment(omega, l);
+    r += q * whole.chord;
+    q = q * whole.rotation;
+    start += l;
+  }
+}
+
+}  // namespace
+
+bool SolveChildren(const Hairstyle& style, const HairstyleMasters& masters,
+                   const std::vector<StrandSolution>& solutions, const BatchOptions& batch,
+                   HairCurves* strands, GroomSummary* summary, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  const size_t masters_count = masters.models.size();
+  const int per_wisp = masters.wisp_options.strands_per_wisp;
+  if (solutions.size() != masters_count ||
+      strands->NumStrands() != static_cast<int>(masters_count) * per_wisp) {
+    return Fail(why, "children: expected one solution per master and N strands per wisp");
+  }
+  // Offsets of each strand's first point.
+  std::vector<size_t> first(static_cast<size_t>(strands->NumStrands()) + 1, 0);
+  for (int k = 0; k < strands->NumStrands(); ++k) {
+    first[static_cast<size_t>(k) + 1] = first[static_cast<size_t>(k)] + strands->point_counts[static_cast<size_t>(k)];
+  }
+  // One model per child (the master strand of a wisp, when included, stays the master).
+  std::vector<StrandModel> models;
+  std::vector<VecX> warm;
+  std::vector<int> strand_of;
+  for (size_t i = 0; i < masters_count; ++i) {
+    const StrandModel& master = masters.models[i];
+    const double ratio = master.segment_lengths.back() / master.segment_lengths.front();
+    for (int c = 0; c < per_wisp; ++c) {
+      if (c == 0 && masters.wisp_options.include_master) continue;
+      const int k = static_cast<int>(i) * per_wisp + c;
+      const size_t a = first[static_cast<size_t>(k)], b = first[static_cast<size_t>(k) + 1];
+      double length = 0.0;
+      for (size_t p = a + 1; p < b; ++p) {
+        length += (strands->points[p] - strands->points[p - 1]).cast<double>().norm();
+      }
+      if (!(length > 0.0)) continue;  // a degenerate child keeps its procedural shape
+      StrandModel m = master;
+      m.root_position = strands->points[a].cast<double>();
+      m.segment_lengths = GradedSegments(length, master.NumSegments(), ratio);
+      m.contact.clearance = master.section.MeanRadius() +
+                            masters.layers[i] * style.layers.thickness;
+      models.push_back(std::move(m));
+      warm.push_back(solutions[i].curvatures);
+      strand_of.push_back(k);
+    }
+  }
+  const std::vector<StrandSolution> children = SolveStrands(models, style.solver, batch, &warm);
+
+  // Resample each solved child at its own point count, equally spaced in arc length.
+  for (size_t c = 0; c < children.size(); ++c) {
+    const StrandSolution& sol = children[c];
+    ++summary->children_solved;
+    summary->children_iterations += sol.summary.iterations;
+    if (!sol.summary.Converged()) {
+      ++summary->children_unconverged;
+    } else if (sol.summary.stability_checked && !sol.summary.stable) {
+      ++summary->children_unstable;
+    }
+    summary->children_max_penetration =
+        std::max(summary->children_max_penetration, sol.summary.contact.max_penetration);
+    const int k = strand_of[c];
+    const size_t a = first[static_cast<size_t>(k)];
+    const int count = static_cast<int>(strands->point_counts[static_cast<size_t>(k)]);
+    const double length = models[c].Length();
+    std::vector<double> s(static_cast<size_t>(count));
+    for (int p = 0; p < count; ++p) s[static_cast<size_t>(p)] = length * p / (count - 1);
+    std::vector<Vec3> points, axes;
+    SampleAtArcLengths(models[c], sol.curvatures, s, &points, &axes);
+    if (static_cast<int>(points.size()) != count) return Fail(why, "children: sampling failed");
+    for (int p = 0; p < count; ++p) {
+      strands->points[a + static_cast<size_t>(p)] = points[static_cast<size_t>(p)].cast<float>();
+      if (!strands->major_axes.empty()) {
+        strands->major_axes[a + static_cast<size_t>(p)] = axes[static_cast<size_t>(p)].cast<float>();
+      }
+    }
+  }
+  summary->children_seconds = SecondsSince(start);
+  return true;
+}
+
 bool GroomHairstyle(const Hairstyle& style, const BatchOptions& batch, Groom* groom,
                     std::string* why) {
   Groom g;
@@ -172,6 +282,10 @@ bool GroomHairstyle(const Hairstyle& style, const BatchOptions& batch, Groom* gr
   start = std::chrono::steady_clock::now();
   if (!GrowWisps(style, g.masters, g.solutions, &g.strands, why)) return false;
   g.summary.wisp_seconds = SecondsSince(start);
+  if (style.solve_children &&
+      !SolveChildren(style, g.masters, g.solutions, batch, &g.strands, &g.summary, why)) {
+    return false;
+  }
 
   GroomSummary& s = g.summary;
   s.masters = static_cast<int>(g.solutions.size());

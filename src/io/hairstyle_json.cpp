@@ -255,7 +255,7 @@ bool ParseWisps(Reader& reader, const json& document, Hairstyle* style) {
                            "tip_scale", "profile_exponent", "distance_exponent", "jitter",
                            "length_variation", "frizz_amplitude", "frizz_frequency",
                            "points_per_strand", "tip_taper", "include_master",
-                           "spread_roots"}) ||
+                           "spread_roots", "children"}) ||
       !reader.ReadInteger(*wisps, path, "strands_per_wisp", 1, 100000, &w.strands_per_wisp) ||
       !reader.ReadNumber(*wisps, path, "packing_fraction", kFraction, false,
                          &w.packing_fraction) ||
@@ -286,6 +286,16 @@ bool ParseWisps(Reader& reader, const json& document, Hairstyle* style) {
                                  [](double x) { return x > 0.0; }},
                                 false, &w.wisp_radius)) {
     return false;
+  }
+  const auto children = wisps->find("children");
+  if (children != wisps->end()) {
+    if (children->is_string() && *children == "procedural") {
+      style->solve_children = false;
+    } else if (children->is_string() && *children == "solved") {
+      style->solve_children = true;
+    } else {
+      return reader.Expected("wisps.children", "\"procedural\" or \"solved\"", *children);
+    }
   }
   std::string why;
   if (!w.IsValid(&why)) return reader.Fail(path, why);
