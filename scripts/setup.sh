@@ -9,6 +9,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtinyobjloader-dev libtbb-dev libembree-dev libpng-dev
   python3-numpy python3-matplotlib
+  libglfw3-dev libimgui-dev libgl-dev libepoxy-dev
+  xvfb xauth libgl1-mesa-dri
 )
 
 missing=()

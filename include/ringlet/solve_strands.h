@@ -1,6 +1,7 @@
 // Many strands at once: the statics solve of independent strands in parallel (paper, section 3).
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <vector>
 
@@ -21,6 +22,11 @@ struct BatchOptions {
   int threads = 0;
   /// Progress reports (may be empty).
   ProgressCallback progress;
+  /// Cooperative cancellation of the styling operations (styling.h; the studio's stale
+  /// re-solves), may be null: when set, they solve their masters in blocks and, once *cancel is
+  /// true, stop between blocks and return false with why = "cancelled". SolveStrands itself does
+  /// not read it (one call runs to the end). Blocks do not change the results.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// Solves every model with SolveStrand (TBB parallel loop, one task per strand). warm_starts,

@@ -241,7 +241,9 @@ const char* OperationName(StyleOperation::Kind kind);
 
 /// Runs one operation on the styled state (Curl, Wet, Dry, Cut or Grow with the operation's
 /// parameters). For grow, `grow_sequence`, when not null, receives the state after each step.
-/// On failure returns false with why and leaves the state unchanged.
+/// On failure returns false with why and leaves the state unchanged, except when cancelled
+/// (BatchOptions::cancel set during the re-solve: why = "cancelled", the state partly edited;
+/// run a cancellable operation on a copy). Every operation above honours the cancel flag alike.
 bool ApplyOperation(StyledHair* state, const StyleOperation& operation, const BatchOptions& batch,
                     std::vector<StyledHair>* grow_sequence, OperationReport* report,
                     std::string* why);

@@ -32,21 +32,44 @@ std::string Number(double x) {
 }
 
 // Re-solves masters `which` from the warm starts `warm` (one per entry of which) and writes the
-// solutions back; adds iterations to the report and returns the number left unconverged.
-int Resolve(StyledHair* state, const std::vector<int>& which, const std::vector<VecX>& warm,
-            const BatchOptions& batch, OperationReport* report) {
-  std::vector<StrandModel> models;
-  models.reserve(which.size());
-  for (int i : which) models.push_back(state->masters.models[i]);
-  std::vector<StrandSolution> solved = SolveStrands(models, state->style.solver, batch, &warm);
-  int unconverged = 0;
-  for (size_t k = 0; k < which.size(); ++k) {
-    report->iterations += solved[k].summary.iterations;
-    if (!solved[k].summary.Converged()) ++unconverged;
-    state->solutions[which[k]] = std::move(solved[k]);
+// solutions back; adds iterations to the report and sets *unconverged to the number left
+// unconverged. With batch.cancel, solves in blocks and returns false (solutions of the finished
+// blocks written) as soon as the flag is set; each strand's solve is the same either way.
+bool Resolve(StyledHair* state, const std::vector<int>& which, const std::vector<VecX>& warm,
+             const BatchOptions& batch, OperationReport* report, int* unconverged = nullptr) {
+  const size_t total = which.size();
+  // Blocks of a few strands per thread: small enough to stop within ~0.1 s of a cancel, large
+  // enough that the parallel loop stays busy (solve times vary 100x between strands).
+  const size_t block = batch.cancel ? 32 : std::max<size_t>(total, 1);
+  int left = 0;
+  for (size_t begin = 0; begin < total; begin += block) {
+    if (batch.cancel && batch.cancel->load(std::memory_order_relaxed)) return false;
+    const size_t end = std::min(total, begin + block);
+    std::vector<StrandModel> models;
+    models.reserve(end - begin);
+    for (size_t k = begin; k < end; ++k) models.push_back(state->masters.models[which[k]]);
+    const std::vector<VecX> block_warm(warm.begin() + begin, warm.begin() + end);
+    BatchOptions block_batch = batch;
+    if (batch.progress) {
+      block_batch.progress = [&batch, begin, total](int finished, int) {
+        batch.progress(static_cast<int>(begin) + finished, static_cast<int>(total));
+      };
+    }
+    std::vector<StrandSolution> solved =
+        SolveStrands(models, state->style.solver, block_batch, &block_warm);
+    for (size_t k = begin; k < end; ++k) {
+      StrandSolution& s = solved[k - begin];
+      report->iterations += s.summary.iterations;
+      if (!s.summary.Converged()) ++left;
+      state->solutions[which[k]] = std::move(s);
+    }
   }
-  return unconverged;
+  if (batch.cancel && batch.cancel->load(std::memory_order_relaxed)) return false;
+  if (unconverged) *unconverged = left;
+  return true;
 }
+
+constexpr const char* kCancelled = "cancelled";
 
 // The tip of a strand at its equilibrium (m).
 Vec3 TipOf(const StrandModel& model, const VecX& curvatures) {
@@ -256,7 +279,7 @@ bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection&
     warm.push_back(std::move(q));
   }
   r.strands = static_cast<int>(which.size());
-  r.unconverged = Resolve(state, which, warm, batch, &r);
+  if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
   r.seconds = SecondsSince(start);
   r.message = Summary(r) + " (R = " + Number(radius) + " m, p = " + Number(pitch) + " m)";
   if (report) *report = r;
@@ -298,7 +321,7 @@ bool Wet(StyledHair* state, const WetOptions& options, const BatchOptions& batch
   OperationReport r;
   r.name = "wet";
   r.strands = n;
-  r.unconverged = Resolve(state, which, warm, batch, &r);
+  if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
   r.seconds = SecondsSince(start);
   r.message = Summary(r) + " (E x " + Number(options.stiffness_factor) + ", radius x " +
               Number(options.swelling) + ", layers x " + Number(options.layer_factor) + ")";
@@ -330,7 +353,7 @@ bool Dry(StyledHair* state, const BatchOptions& batch, OperationReport* report,
   OperationReport r;
   r.name = "dry";
   r.strands = n;
-  r.unconverged = Resolve(state, which, warm, batch, &r);
+  if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
   r.seconds = SecondsSince(start);
   r.message = Summary(r);
   if (report) *report = r;
@@ -473,7 +496,7 @@ bool Cut(StyledHair* state, const CutRegion& region, const CutOptions& options,
   OperationReport r;
   r.name = "cut";
   r.strands = static_cast<int>(which.size());
-  r.unconverged = Resolve(state, which, warm, batch, &r);
+  if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
 
   int unsettled = 0;
   if (options.settle && !which.empty()) {
@@ -515,7 +538,7 @@ bool Cut(StyledHair* state, const CutRegion& region, const CutOptions& options,
       if (now.empty()) break;
       ++r.rounds;
       OperationReport scratch;
-      Resolve(state, now, now_warm, batch, &scratch);
+      if (!Resolve(state, now, now_warm, batch, &scratch)) return Fail(why, kCancelled);
       r.iterations += scratch.iterations;
       for (size_t j = 0; j < now.size(); ++j) {
         const int k = now_k[j];
@@ -611,7 +634,7 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
       const VecX& q = state->solutions[i].curvatures;
       warm[i] = WarmStart(q, q, static_cast<int>(l.size()));
     }
-    r.unconverged = Resolve(state, which, warm, batch, &r);
+    if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
     if (sequence) sequence->push_back(*state);
   }
   r.seconds = SecondsSince(start);

@@ -1,0 +1,644 @@
+// The studio's editing model: document, history and the worker thread that re-solves.
+#include "session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "ringlet/atomic_file.h"
+#include "ringlet/hairstyle_json.h"
+
+namespace ringlet::studio {
+namespace {
+
+using ojson = nlohmann::ordered_json;
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+ojson Vector3(const Vec3& v) { return ojson::array({v.x(), v.y(), v.z()}); }
+
+// Whether two master models give the same SolveStrand result: every field SolveStrand reads,
+// compared exactly (the obstacle by identity: the studio shares one body between entries whose
+// "body" did not change).
+bool SameModel(const StrandModel& a, const StrandModel& b) {
+  return a.segment_lengths == b.segment_lengths && a.section.a == b.section.a &&
+         a.section.b == b.section.b && a.material.young_modulus == b.material.young_modulus &&
+         a.material.poisson_ratio == b.material.poisson_ratio &&
+         a.material.density == b.material.density && a.natural_curvature == b.natural_curvature &&
+         a.root_position == b.root_position && a.root_frame == b.root_frame &&
+         a.gravity == b.gravity && a.contact.obstacle == b.contact.obstacle &&
+         a.contact.clearance == b.contact.clearance && a.contact.stiffness == b.contact.stiffness &&
+         a.contact.samples_per_segment == b.contact.samples_per_segment;
+}
+
+// "a.b.c" -> {"a", "b", "c"}.
+std::vector<std::string> SplitField(const std::string& field) {
+  std::vector<std::string> keys;
+  std::stringstream stream(field);
+  std::string key;
+  while (std::getline(stream, key, '.')) keys.push_back(key);
+  return keys;
+}
+
+// A path relative to `to` (a directory) if it can be, else absolute.
+std::string Rebase(const std::string& path, const std::string& from, const std::string& to) {
+  namespace fs = std::filesystem;
+  fs::path p(path);
+  if (p.is_absolute()) return path;
+  std::error_code ec;
+  const fs::path absolute = fs::weakly_canonical(fs::absolute(fs::path(from) / p), ec);
+  if (ec) return path;
+  const fs::path target = fs::weakly_canonical(fs::absolute(to.empty() ? "." : to), ec);
+  if (ec) return absolute.string();
+  const fs::path relative = absolute.lexically_relative(target);
+  return relative.empty() ? absolute.string() : relative.string();
+}
+
+bool SameOperation(const StyleOperation& a, const StyleOperation& b) {
+  return OperationToJson(a) == OperationToJson(b);
+}
+
+// The numbers of a styled head that the panel shows and the view colours.
+void FillStatus(HairState* state) {
+  const std::vector<StrandSolution>& solutions = state->styled.solutions;
+  state->status.assign(solutions.size(), MasterStatus::kConverged);
+  SolveStats& s = state->stats;
+  s.masters = static_cast<int>(solutions.size());
+  s.unconverged = s.unstable = 0;
+  s.max_penetration = 0.0;
+  for (size_t i = 0; i < solutions.size(); ++i) {
+    const SolveSummary& summary = solutions[i].summary;
+    if (!summary.Converged()) {
+      state->status[i] = MasterStatus::kUnconverged;
+      ++s.unconverged;
+    } else if (summary.stability_checked && !summary.stable) {
+      state->status[i] = MasterStatus::kUnstable;
+      ++s.unstable;
+    }
+    s.max_penetration = std::max(s.max_penetration, summary.contact.max_penetration);
+  }
+}
+
+}  // namespace
+
+ojson OperationToJson(const StyleOperation& op) {
+  using Kind = StyleOperation::Kind;
+  ojson body = ojson::object();
+  switch (op.kind) {
+    case Kind::kCurl: {
+      if (std::isinf(op.curl_radius)) {
+        body["radius"] = "inf";
+      } else {
+        body["radius"] = op.curl_radius;
+      }
+      body["pitch"] = op.curl_pitch;
+      const StrandSelection& s = op.selection;
+      const StrandSelection all;
+      ojson select = ojson::object();
+      if (!s.indices.empty()) {
+        select["indices"] = s.indices;
+      } else {
+        if (s.min_polar_angle != all.min_polar_angle || s.max_polar_angle != all.max_polar_angle) {
+          select["polar_angle"] = ojson::array({s.min_polar_angle, s.max_polar_angle});
+        }
+        // JSON has no infinity: an open end of the height range is written as +-1e300 m, which
+        // selects the same roots.
+        if (std::isfinite(s.min_height) || std::isfinite(s.max_height)) {
+          select["height"] = ojson::array({std::isfinite(s.min_height) ? s.min_height : -1e300,
+                                           std::isfinite(s.max_height) ? s.max_height : 1e300});
+        }
+      }
+      if (!select.empty()) body["select"] = std::move(select);
+      break;
+    }
+    case Kind::kWet:
+      body["stiffness_factor"] = op.wet.stiffness_factor;
+      body["swelling"] = op.wet.swelling;
+      body["water_density"] = op.wet.water_density;
+      body["layer_factor"] = op.wet.layer_factor;
+      break;
+    case Kind::kDry:
+      break;
+    case Kind::kCut: {
+      const CutRegion& r = op.cut_region;
+      switch (r.kind) {
+        case CutRegion::Kind::kAbovePlane:
+          if (r.normal == Vec3::UnitZ()) {
+            body["z"] = r.offset;
+          } else {
+            body["plane"] = {{"normal", Vector3(r.normal)}, {"offset", r.offset}};
+          }
+          break;
+        case CutRegion::Kind::kInsideSphere:
+          body["sphere"] = {{"centre", Vector3(r.centre)}, {"radius", r.radius}};
+          break;
+        case CutRegion::Kind::kMaxLength:
+          body["length"] = r.length;
+          break;
+      }
+      if (op.cut.settle) body["settle"] = true;
+      const CutOptions defaults;
+      if (op.cut.tolerance != defaults.tolerance) body["tolerance"] = op.cut.tolerance;
+      if (op.cut.max_rounds != defaults.max_rounds) body["max_rounds"] = op.cut.max_rounds;
+      if (op.cut.samples_per_segment != defaults.samples_per_segment) {
+        body["samples_per_segment"] = op.cut.samples_per_segment;
+      }
+      break;
+    }
+    case Kind::kGrow:
+      body["step"] = op.grow_step;
+      body["steps"] = op.grow_steps;
+      break;
+  }
+  ojson out = ojson::object();
+  out[OperationName(op.kind)] = std::move(body);
+  return out;
+}
+
+ojson DocumentToJson(const Document& document, const std::string& directory) {
+  ojson out = document.parameters;
+  // Relative paths follow the file: the body file, or the OBJ meshes of an inline body.
+  if (out.contains("body")) {
+    ojson& body = out["body"];
+    if (body.is_string()) {
+      body = Rebase(body.get<std::string>(), document.base_directory, directory);
+    } else if (body.is_object() && body.contains("meshes") && body["meshes"].is_array()) {
+      for (ojson& mesh : body["meshes"]) {
+        if (mesh.is_object() && mesh.contains("obj") && mesh["obj"].is_string()) {
+          mesh["obj"] = Rebase(mesh["obj"].get<std::string>(), document.base_directory, directory);
+        }
+      }
+    }
+  }
+  out.erase("operations");
+  if (!document.operations.empty()) {
+    ojson ops = ojson::array();
+    for (const StyleOperation& op : document.operations) ops.push_back(OperationToJson(op));
+    out["operations"] = std::move(ops);
+  }
+  return out;
+}
+
+ojson ParseValue(const std::string& text) {
+  ojson value = ojson::parse(text, nullptr, false);
+  if (value.is_discarded()) return ojson(text);
+  return value;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Session
+
+Session::Session() {
+  history_.push_back(Entry{Document{}, "empty", nullptr});
+  worker_ = std::thread([this] { WorkerLoop(); });
+}
+
+Session::~Session() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+    if (cancel_) cancel_->store(true);
+  }
+  wake_.notify_all();
+  worker_.join();
+}
+
+bool Session::Open(const std::string& path, std::string* error) {
+  std::ifstream file(path);
+  if (!file) {
+    *error = path + ": cannot open the file";
+    return false;
+  }
+  // Checked by the library's reader first, for the CLI's messages (syntax errors with line and
+  // column, fields by name).
+  Hairstyle style;
+  std::vector<StyleOperation> operations;
+  if (!LoadHairstyle(path, &style, &operations, error)) return false;
+  const ojson json = ojson::parse(file, nullptr, false);
+  if (json.is_discarded() || !json.is_object()) {
+    *error = path + ": not a JSON object";
+    return false;
+  }
+  std::string directory = std::filesystem::path(path).parent_path().string();
+  if (!OpenDocument(json, directory, path, error)) return false;
+  path_ = path;
+  return true;
+}
+
+bool Session::OpenDocument(const ojson& json, const std::string& base_directory,
+                           const std::string& name, std::string* error) {
+  Hairstyle style;
+  std::vector<StyleOperation> operations;
+  const nlohmann::json plain = json;
+  std::string why;
+  if (!ParseHairstyle(plain, base_directory, &style, &why) ||
+      !ParseStyleOperations(plain, &operations, &why)) {
+    *error = name + ": " + why;
+    return false;
+  }
+  Document document;
+  document.parameters = json;
+  document.parameters.erase("operations");
+  document.operations = std::move(operations);
+  document.base_directory = base_directory;
+  history_.clear();
+  cursor_ = -1;
+  path_.clear();
+  PushEntry(std::move(document), "open " + std::filesystem::path(name).filename().string());
+  saved_cursor_ = cursor_;
+  return true;
+}
+
+ojson Session::Parameter(const std::string& field) const {
+  const ojson* node = &CurrentDocument().parameters;
+  for (const std::string& key : SplitField(field)) {
+    if (!node->is_object() || !node->contains(key)) return ojson();
+    node = &(*node)[key];
+  }
+  return *node;
+}
+
+bool Session::SetParameter(const std::string& field, const ojson& value, std::string* error) {
+  const std::vector<std::string> keys = SplitField(field);
+  if (keys.empty() || field == "operations") {
+    *error = "set: expected a field of the hairstyle, got \"" + field + "\"";
+    return false;
+  }
+  Document document = CurrentDocument();
+  ojson* node = &document.parameters;
+  for (size_t k = 0; k + 1 < keys.size(); ++k) {
+    if (!node->contains(keys[k])) (*node)[keys[k]] = ojson::object();
+    node = &(*node)[keys[k]];
+    if (!node->is_object()) {
+      *error = field + ": " + keys[k] + " is not an object";
+      return false;
+    }
+  }
+  (*node)[keys.back()] = value;
+  Hairstyle style;
+  std::string why;
+  if (!ParseHairstyle(nlohmann::json(document.parameters), document.base_directory, &style, &why)) {
+    *error = why;
+    return false;
+  }
+  PushEntry(std::move(document), "set " + field + " = " + value.dump());
+  return true;
+}
+
+bool Session::AddOperation(const StyleOperation& operation, std::string* error) {
+  if (!operation.IsValid(error)) return false;
+  std::shared_ptr<const HairState> hair =
+      history_[cursor_].state ? history_[cursor_].state : shown_;
+  if (hair) {
+    const int masters = static_cast<int>(hair->styled.masters.models.size());
+    if (operation.kind == StyleOperation::Kind::kCurl &&
+        !operation.selection.IsValid(masters, error)) {
+      return false;
+    }
+  }
+  // Dry needs wet hair, wet dry hair: known from the list alone.
+  bool wet = false;
+  for (const StyleOperation& op : CurrentDocument().operations) {
+    if (op.kind == StyleOperation::Kind::kWet) wet = true;
+    if (op.kind == StyleOperation::Kind::kDry) wet = false;
+  }
+  if (operation.kind == StyleOperation::Kind::kDry && !wet) {
+    *error = "dry: the hair is not wet (wet it first)";
+    return false;
+  }
+  if (operation.kind == StyleOperation::Kind::kWet && wet) {
+    *error = "wet: the hair is already wet (dry it first)";
+    return false;
+  }
+  Document document = CurrentDocument();
+  document.operations.push_back(operation);
+  std::string label = OperationName(operation.kind);
+  if (operation.kind == StyleOperation::Kind::kCurl && !operation.selection.indices.empty()) {
+    label += " (" + std::to_string(operation.selection.indices.size()) + " brushed masters)";
+  }
+  PushEntry(std::move(document), label);
+  return true;
+}
+
+void Session::PushEntry(Document document, std::string label) {
+  history_.resize(cursor_ + 1);  // a new edit drops the redo branch
+  if (saved_cursor_ > cursor_) saved_cursor_ = -1;
+  history_.push_back(Entry{std::move(document), std::move(label), nullptr});
+  cursor_ = static_cast<int>(history_.size()) - 1;
+  Schedule(cursor_);
+}
+
+bool Session::Undo() {
+  if (!CanUndo()) return false;
+  --cursor_;
+  ShowOrSchedule();
+  return true;
+}
+
+bool Session::Redo() {
+  if (!CanRedo()) return false;
+  ++cursor_;
+  ShowOrSchedule();
+  return true;
+}
+
+bool Session::Save(const std::string& path, std::string* error) {
+  const std::string directory = std::filesystem::path(path).parent_path().string();
+  const ojson json = DocumentToJson(CurrentDocument(), directory);
+  if (!WriteFileAtomically(path, json.dump(2) + "\n", true, error)) return false;
+  saved_cursor_ = cursor_;
+  return true;
+}
+
+bool Session::UpToDate() const { return shown_ && history_[cursor_].state == shown_; }
+
+std::string Session::LastError() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return last_error_;
+}
+
+std::vector<std::string> Session::HistoryLabels() const {
+  std::vector<std::string> labels;
+  for (const Entry& e : history_) labels.push_back(e.label);
+  return labels;
+}
+
+bool Session::Busy() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return pending_ || running_ || !finished_.empty();
+}
+
+void Session::Progress(int* done, int* total, std::string* what) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  *done = running_ ? progress_done_.load() : 0;
+  *total = running_ ? progress_total_.load() : 0;
+  *what = running_ ? progress_what_ : "";
+}
+
+// ---------------------------------------------------------------------------------------------
+// The worker
+
+void Session::ShowOrSchedule() {
+  const std::shared_ptr<const HairState>& state = history_[cursor_].state;
+  if (state && state->strands) {
+    shown_ = state;
+    Schedule(-1);  // cancel a stale solve
+  } else {
+    Schedule(cursor_);
+  }
+}
+
+void Session::Schedule(int entry) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  // A newer edit cancels the running solve and replaces a pending one.
+  if (cancel_) cancel_->store(true);
+  if (cancel_ || pending_) ++cancelled_;
+  scheduled_generation_ = ++generation_;
+  pending_.reset();
+  if (entry < 0) return;
+  auto job = std::make_unique<JobData>();
+  job->entry = entry;
+  job->generation = generation_;
+  job->document = history_[entry].document;
+  for (const Entry& e : history_) {
+    if (e.state) job->solved.push_back(Candidate{e.document, e.state});
+  }
+  job->cancel = std::make_shared<std::atomic<bool>>(false);
+  pending_ = std::move(job);
+  wake_.notify_all();
+}
+
+void Session::WorkerLoop() {
+  while (true) {
+    std::unique_ptr<JobData> job;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [this] { return stop_ || pending_; });
+      if (stop_) return;
+      job = std::move(pending_);
+      running_ = true;
+      cancel_ = job->cancel;
+      progress_done_ = 0;
+      progress_total_ = 0;
+      progress_what_ = "solving";
+    }
+    std::shared_ptr<HairState> state;
+    std::string error;
+    const bool ok = Compute(*job, &state, &error);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      running_ = false;
+      cancel_.reset();
+      // A cancelled job leaves nothing; a failed one its message.
+      if (ok || !error.empty()) {
+        finished_.push_back(Finished{job->entry, job->generation, state, error});
+      }
+    }
+    idle_.notify_all();
+  }
+}
+
+bool Session::Poll() {
+  std::vector<Finished> finished;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    finished.swap(finished_);
+  }
+  bool changed = false;
+  for (Finished& f : finished) {
+    // Only the result of the last scheduled job counts: an older one belongs to an entry that
+    // was undone or replaced since.
+    if (f.generation != scheduled_generation_) continue;
+    if (f.entry < 0 || f.entry >= static_cast<int>(history_.size())) continue;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!f.error.empty()) {
+      last_error_ = history_[f.entry].label + ": " + f.error;
+      continue;
+    }
+    last_error_.clear();
+    history_[f.entry].state = f.state;
+    if (f.entry == cursor_) {
+      shown_ = f.state;
+      changed = true;
+    }
+  }
+  // Keep the strands of a few entries only (tens of MB each); the others keep their masters
+  // and re-grow the wisps when shown again.
+  int kept = 0;
+  for (int k = static_cast<int>(history_.size()) - 1; k >= 0; --k) {
+    std::shared_ptr<const HairState>& state = history_[k].state;
+    if (!state || !state->strands || state == shown_ || ++kept <= 4) continue;
+    auto light = std::make_shared<HairState>(*state);
+    light->strands.reset();
+    state = std::move(light);
+  }
+  return changed;
+}
+
+void Session::Wait() {
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    idle_.wait(lock, [this] { return !pending_ && !running_; });
+  }
+  Poll();
+}
+
+bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::string* error) {
+  const Document& target = job.document;
+  const std::atomic<bool>& cancel = *job.cancel;
+  const std::vector<Candidate>& candidates = job.solved;
+  const auto start = std::chrono::steady_clock::now();
+  auto state = std::make_shared<HairState>();
+  SolveStats& stats = state->stats;
+  BatchOptions batch;
+  batch.threads = threads_;
+  batch.cancel = &cancel;
+  batch.progress = [this](int done, int total) {
+    progress_done_ = done;
+    progress_total_ = total;
+  };
+  const auto set_what = [this](const std::string& what) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    progress_what_ = what;
+  };
+
+  // 1. The closest solved entry with the same parameters whose operations are a prefix of the
+  //    target's: only the remaining operations run, from its equilibrium.
+  const HairState* from = nullptr;
+  size_t done_ops = 0;
+  for (const auto& [document, s] : candidates) {
+    if (document.parameters != target.parameters ||
+        document.base_directory != target.base_directory || !s) {
+      continue;
+    }
+    const size_t n = document.operations.size();
+    if (n > target.operations.size()) continue;
+    bool prefix = true;
+    for (size_t k = 0; k < n && prefix; ++k) {
+      prefix = SameOperation(document.operations[k], target.operations[k]);
+    }
+    if (prefix && (!from || n >= done_ops)) {
+      from = s.get();
+      done_ops = n;
+    }
+  }
+
+  if (from) {
+    state->base = from->base;
+    state->styled = from->styled;
+  } else {
+    // 2. A new groom: build the masters and solve those whose model changed.
+    Hairstyle style;
+    std::string why;
+    if (!ParseHairstyle(nlohmann::json(target.parameters), target.base_directory, &style, &why)) {
+      *error = why;
+      return false;
+    }
+    // The groom to reuse: the most recent candidate (its body shared when "body" is unchanged).
+    const HairState* previous = nullptr;
+    const Document* previous_document = nullptr;
+    for (const auto& [document, s] : candidates) {
+      if (s && s->base) {
+        previous = s.get();
+        previous_document = &document;
+      }
+    }
+    if (previous) {
+      const auto a = target.parameters.find("body");
+      const auto b = previous_document->parameters.find("body");
+      if (a != target.parameters.end() && b != previous_document->parameters.end() && *a == *b &&
+          target.base_directory == previous_document->base_directory) {
+        style.body = previous->styled.style.body;
+      }
+    }
+    const bool same_solver = previous && previous_document &&
+                             target.parameters.value("solver", ojson()) ==
+                                 previous_document->parameters.value("solver", ojson());
+    auto groom = std::make_shared<Groom>();
+    set_what("building masters");
+    if (!BuildMasters(style, &groom->masters, &why)) {
+      *error = why;
+      return false;
+    }
+    const int n = static_cast<int>(groom->masters.models.size());
+    groom->solutions.resize(n);
+    std::vector<int> todo;
+    for (int i = 0; i < n; ++i) {
+      if (same_solver && previous->base &&
+          static_cast<int>(previous->base->masters.models.size()) == n &&
+          SameModel(groom->masters.models[i], previous->base->masters.models[i])) {
+        groom->solutions[i] = previous->base->solutions[i];
+        ++stats.reused;
+      } else {
+        todo.push_back(i);
+      }
+    }
+    // Blocks of masters between cancellation checks (the same solves as one SolveStrands call).
+    set_what("solving masters");
+    const size_t block = 32;
+    for (size_t begin = 0; begin < todo.size(); begin += block) {
+      if (cancel.load()) return false;
+      const size_t end = std::min(todo.size(), begin + block);
+      std::vector<StrandModel> models;
+      for (size_t k = begin; k < end; ++k) models.push_back(groom->masters.models[todo[k]]);
+      BatchOptions b;
+      b.threads = threads_;
+      std::vector<StrandSolution> solved = SolveStrands(models, style.solver, b);
+      for (size_t k = begin; k < end; ++k) {
+        stats.iterations += solved[k - begin].summary.iterations;
+        groom->solutions[todo[k]] = std::move(solved[k - begin]);
+      }
+      progress_done_ = static_cast<int>(end);
+      progress_total_ = static_cast<int>(todo.size());
+    }
+    stats.resolved = static_cast<int>(todo.size());
+    stats.what = "groom";
+    if (!MakeStyledHair(style, *groom, &state->styled, &why)) {
+      *error = why;
+      return false;
+    }
+    state->base = std::move(groom);
+  }
+
+  // 3. The remaining operations, each warm-started from the previous equilibrium.
+  for (size_t k = done_ops; k < target.operations.size(); ++k) {
+    if (cancel.load()) return false;
+    const StyleOperation& op = target.operations[k];
+    set_what(std::string("re-solving: ") + OperationName(op.kind));
+    OperationReport report;
+    std::string why;
+    if (!ApplyOperation(&state->styled, op, batch, nullptr, &report, &why)) {
+      if (cancel.load()) return false;
+      *error = "operations[" + std::to_string(k) + "]: " + why;
+      return false;
+    }
+    stats.what = report.name;
+    stats.resolved += report.strands;
+    stats.iterations += report.iterations;
+    if (!stats.message.empty()) stats.message += "; ";
+    stats.message += report.message;
+  }
+  if (cancel.load()) return false;
+  set_what("growing wisps");
+  auto strands = std::make_shared<HairCurves>();
+  std::string why;
+  if (!StyledStrands(state->styled, strands.get(), &why)) {
+    *error = why;
+    return false;
+  }
+  state->strands = std::move(strands);
+  FillStatus(state.get());
+  if (stats.what.empty()) stats.what = "unchanged";
+  stats.seconds = SecondsSince(start);
+  *out = std::move(state);
+  return true;
+}
+
+}  // namespace ringlet::studio

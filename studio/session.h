@@ -1,0 +1,212 @@
+// The studio's editing model, without GL (STYLE.md: view state apart from the model, the edit
+// logic testable without a window): a hairstyle document (its parameters as JSON plus the
+// `operations` list that `ringlet style` reads), the hair computed from it, an undo / redo
+// history of edits, and a worker thread that re-solves after each edit.
+//
+// Edits and their re-solves:
+//  - an operation (curl, wet, dry, cut, grow; curl optionally on a brushed set of masters) is
+//    appended to the list and applied to the current styled hair, warm-started from its
+//    equilibrium: exactly the step `ringlet style` takes for that list entry, so a saved file
+//    reproduces the studio's hair bit for bit;
+//  - a parameter change (a field of the hairstyle JSON, e.g. "hair.length") rebuilds the
+//    masters; masters whose model did not change keep their solution (SolveStrand is
+//    deterministic, so re-solving them would give the same bits), the others are solved from the
+//    natural shape as `ringlet groom` does, and the operations are replayed.
+// A newer edit cancels a stale solve (BatchOptions::cancel, checked between blocks of masters).
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "ringlet/hairstyle.h"
+#include "ringlet/styling.h"
+
+namespace ringlet::studio {
+
+/// What the solve of one edit did (the panel's "result" line).
+struct SolveStats {
+  std::string what;            ///< "groom", "curl", "wet", ... (the last step of the edit)
+  int masters = 0;             ///< masters in the hair
+  int resolved = 0;            ///< masters solved or re-solved by this edit
+  int reused = 0;              ///< masters whose unchanged solution was kept (parameter edits)
+  long iterations = 0;         ///< minimizer iterations of this edit
+  int unconverged = 0;         ///< masters of the hair whose last solve did not converge
+  int unstable = 0;            ///< masters found unstable (when the stability check ran)
+  double max_penetration = 0;  ///< deepest master point below the body surface (m)
+  double seconds = 0;          ///< wall time of the edit's solve and wisps (s)
+  std::string message;         ///< the operations' one-line reports, joined
+};
+
+/// Per master: what the view colours.
+enum class MasterStatus : std::uint8_t { kConverged = 0, kUnconverged = 1, kUnstable = 2 };
+
+/// The hair of one history entry: the styled masters and the strands drawn.
+struct HairState {
+  /// The unstyled groom (masters and their solutions from the natural shape): what a parameter
+  /// edit compares its new masters with.
+  std::shared_ptr<const Groom> base;
+  StyledHair styled;                          ///< after every operation of the entry
+  std::shared_ptr<const HairCurves> strands;  ///< wisps of styled (StyledStrands)
+  std::vector<MasterStatus> status;           ///< one per master
+  SolveStats stats;
+};
+
+/// A hairstyle document: the file's JSON without "operations", and the operations.
+struct Document {
+  nlohmann::ordered_json parameters;
+  std::vector<StyleOperation> operations;
+  std::string base_directory;  ///< relative paths in parameters are relative to it
+};
+
+/// The JSON of one operation as docs/hairstyle-format.md ("operations") writes it:
+/// ParseStyleOperations reads it back to the same StyleOperation (numbers round-trip exactly).
+nlohmann::ordered_json OperationToJson(const StyleOperation& operation);
+
+/// The whole file: parameters plus "operations" (omitted when empty), with relative paths
+/// ("body", body meshes) rewritten relative to `directory`.
+nlohmann::ordered_json DocumentToJson(const Document& document, const std::string& directory);
+
+/// A JSON value typed by a user ("0.3", "true", "[0, 0, -1]", "\"wavy\"", or a bare word like
+/// wavy, taken as a string).
+nlohmann::ordered_json ParseValue(const std::string& text);
+
+/// The editing session. All public functions are called from one (the UI) thread; the solve
+/// runs on an internal worker thread.
+class Session {
+ public:
+  Session();
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  /// Worker threads of the solves (0 = all cores).
+  void SetThreads(int threads) { threads_ = threads; }
+
+  /// Reads a hairstyle file (with its operations) and starts grooming it. A bad file returns
+  /// false with the CLI's one-line message and keeps the current document, hair and history.
+  bool Open(const std::string& path, std::string* error);
+  /// The same from a JSON document in memory (relative paths against base_directory).
+  bool OpenDocument(const nlohmann::ordered_json& json, const std::string& base_directory,
+                    const std::string& name, std::string* error);
+
+  /// Sets a field of the hairstyle ("hair.length", "comb.parting.offset", "wisps.jitter", ...;
+  /// dots separate object keys) and re-solves. The new document is checked first
+  /// (ParseHairstyle): a bad value returns false with the CLI's message and changes nothing.
+  bool SetParameter(const std::string& field, const nlohmann::ordered_json& value,
+                    std::string* error);
+  /// The current value of a field (null when absent: the format's default applies).
+  nlohmann::ordered_json Parameter(const std::string& field) const;
+
+  /// Appends an operation and re-solves warm-started. Checked first (StyleOperation::IsValid,
+  /// selection indices against the master count, dry only when wet): false with the message.
+  bool AddOperation(const StyleOperation& operation, std::string* error);
+
+  /// Undo / redo the last edit; false when there is none. The hair of an entry solved before
+  /// is shown at once; otherwise it is re-solved.
+  bool Undo();
+  bool Redo();
+  bool CanUndo() const { return cursor_ > 0; }
+  bool CanRedo() const { return cursor_ + 1 < static_cast<int>(history_.size()); }
+
+  /// Writes the current document (parameters and operations) atomically to path; `ringlet
+  /// style path -o OUT/` then reproduces Hair() bit for bit. False with a message on failure.
+  bool Save(const std::string& path, std::string* error);
+
+  /// Called by the UI each frame: takes a finished solve, if any. True when Hair() changed.
+  bool Poll();
+  /// Blocks until the worker has finished every scheduled solve, then Poll()s.
+  void Wait();
+  /// Whether a solve is scheduled or running.
+  bool Busy() const;
+  /// Progress of the running solve: masters done and total (0, 0 when idle).
+  void Progress(int* done, int* total, std::string* what) const;
+
+  /// The hair shown: the last finished solve (null before the first one).
+  std::shared_ptr<const HairState> Hair() const { return shown_; }
+  /// The document of the current history entry.
+  const Document& CurrentDocument() const { return history_[cursor_].document; }
+  /// Whether Hair() is the solve of the current entry (false while it is being solved).
+  bool UpToDate() const;
+  /// The last error of a solve (an operation that failed on this hair), empty if none.
+  std::string LastError() const;
+  /// Labels of the history entries, oldest first, and the current index.
+  std::vector<std::string> HistoryLabels() const;
+  int HistoryCursor() const { return cursor_; }
+  /// The file name of the document (Open's path), empty for a document from memory.
+  const std::string& Path() const { return path_; }
+  /// Solves cancelled while running or replaced before they started, since construction.
+  int CancelledSolves() const { return cancelled_.load(); }
+  /// Whether there are edits since the last Open or Save.
+  bool Modified() const { return cursor_ != saved_cursor_; }
+
+  /// Selection of masters for brushed operations (indices; empty = every master).
+  std::vector<int> brush;
+
+ private:
+  struct Entry {
+    Document document;
+    std::string label;
+    std::shared_ptr<const HairState> state;  // null until solved
+  };
+  // What the worker needs of a job, copied on the UI thread: the worker never reads history_.
+  struct Candidate {
+    Document document;
+    std::shared_ptr<const HairState> state;
+  };
+  struct JobData {
+    int entry = -1;
+    std::uint64_t generation = 0;
+    Document document;
+    std::vector<Candidate> solved;  // entries solved before, oldest first
+    std::shared_ptr<std::atomic<bool>> cancel;
+  };
+
+  void PushEntry(Document document, std::string label);
+  // Shows entry `cursor_` at once when it was solved (strands kept), else schedules it.
+  void ShowOrSchedule();
+  // Cancels the running solve and schedules entry (or nothing, for -1).
+  void Schedule(int entry);
+  void WorkerLoop();
+  // Computes the hair of job.document from the closest solved entry; false when cancelled or
+  // failed (error set on failure only).
+  bool Compute(const JobData& job, std::shared_ptr<HairState>* out, std::string* error);
+
+  std::vector<Entry> history_;
+  int cursor_ = 0;
+  int saved_cursor_ = 0;
+  std::string path_;
+  std::shared_ptr<const HairState> shown_;
+  int threads_ = 0;
+
+  // Worker state, guarded by mutex_.
+  mutable std::mutex mutex_;
+  std::condition_variable wake_, idle_;
+  std::thread worker_;
+  bool stop_ = false;
+  std::unique_ptr<JobData> pending_;  // the newest scheduled job, not started yet
+  bool running_ = false;
+  std::uint64_t generation_ = 0;
+  std::shared_ptr<std::atomic<bool>> cancel_;  // of the running job
+  // Finished results waiting for Poll: (entry, generation, state, error).
+  struct Finished {
+    int entry = -1;
+    std::uint64_t generation = 0;
+    std::shared_ptr<const HairState> state;
+    std::string error;
+  };
+  std::vector<Finished> finished_;
+  std::string last_error_;
+  std::atomic<int> progress_done_{0}, progress_total_{0};
+  std::atomic<int> cancelled_{0};
+  std::string progress_what_;
+  std::uint64_t scheduled_generation_ = 0;  // UI thread: the job whose result is wanted
+};
+
+}  // namespace ringlet::studio

@@ -1,0 +1,498 @@
+// OpenGL 3.3 core drawing of the body and the hair (viewer.h).
+#include "viewer.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "ringlet/hair_bsdf.h"
+
+namespace ringlet::studio {
+namespace {
+
+// Hair: lines in, camera-facing quads out. The ribbon is the fibre's width; when that is below
+// a pixel it is widened to one pixel and its alpha scaled by the coverage (so thin hair is not
+// lost, and 50,000 strands do not turn into a solid block).
+const char* kHairVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in float width;
+layout(location = 2) in float flag;
+out vec3 v_position;
+out float v_width;
+out float v_flag;
+void main() { v_position = position; v_width = width; v_flag = flag; }
+)";
+
+const char* kHairGeometry = R"(#version 330 core
+layout(lines) in;
+layout(triangle_strip, max_vertices = 4) out;
+in vec3 v_position[];
+in float v_width[];
+in float v_flag[];
+uniform mat4 view_projection;
+uniform vec3 eye;
+uniform float pixels_per_unit;  // viewport height / (2 tan(fov / 2))
+out vec3 g_tangent;
+out vec3 g_position;
+out float g_flag;
+out float g_alpha;
+void main() {
+  vec3 t = v_position[1] - v_position[0];
+  float len = length(t);
+  if (len <= 0.0) return;
+  t /= len;
+  for (int k = 0; k < 2; ++k) {
+    vec3 p = v_position[k];
+    vec3 to_eye = normalize(eye - p);
+    vec3 side = cross(t, to_eye);
+    float s = length(side);
+    side = s > 1e-6 ? side / s : vec3(1.0, 0.0, 0.0);
+    // Pixels per metre at this depth, from the clip w.
+    vec4 clip = view_projection * vec4(p, 1.0);
+    float metres_per_pixel = clip.w / pixels_per_unit;
+    float w = v_width[k];
+    float half_width = 0.5 * max(w, metres_per_pixel);
+    float alpha = clamp(w / metres_per_pixel, 0.25, 1.0);
+    for (int j = 0; j < 2; ++j) {
+      vec3 q = p + (j == 0 ? -half_width : half_width) * side;
+      gl_Position = view_projection * vec4(q, 1.0);
+      g_tangent = t;
+      g_position = q;
+      g_flag = v_flag[k];
+      g_alpha = alpha;
+      EmitVertex();
+    }
+  }
+  EndPrimitive();
+}
+)";
+
+// Kajiya-Kay diffuse + two highlights of Marschner's model: R (white, shifted toward the tip by
+// the cuticle tilt) and TRT (coloured, shifted the other way, broader).
+const char* kHairFragment = R"(#version 330 core
+in vec3 g_tangent;
+in vec3 g_position;
+in float g_flag;
+in float g_alpha;
+uniform vec3 eye;
+uniform vec3 light;
+uniform vec3 colour;
+uniform vec3 head_centre;
+uniform float head_radius;
+uniform int highlight_masters;
+out vec4 out_colour;
+float KajiyaKaySpecular(vec3 t, vec3 h, float e) {
+  float th = dot(t, h);
+  return pow(sqrt(max(0.0, 1.0 - th * th)), e);
+}
+void main() {
+  vec3 t = normalize(g_tangent);
+  vec3 v = normalize(eye - g_position);
+  vec3 l = normalize(light);
+  vec3 h = normalize(l + v);
+  vec3 n = normalize(v - dot(v, t) * t);  // the ribbon's normal, toward the eye
+  float tl = dot(t, l);
+  float diffuse = sqrt(max(0.0, 1.0 - tl * tl));
+  float r = KajiyaKaySpecular(normalize(t - 0.08 * n), h, 120.0);
+  float trt = KajiyaKaySpecular(normalize(t + 0.12 * n), h, 25.0);
+  // Ambient darkening: hair near the scalp lies under other hair.
+  float depth = clamp((length(g_position - head_centre) - head_radius) / (0.6 * head_radius), 0.0, 1.0);
+  float ambient_occlusion = 0.45 + 0.55 * depth;
+  vec3 base = colour;
+  if (g_flag > 3.5) base = vec3(1.0, 0.1, 0.9);         // unstable master: magenta
+  else if (g_flag > 2.5) base = vec3(1.0, 0.15, 0.05);  // unconverged master: red
+  else if (g_flag > 1.5) base = vec3(0.1, 0.9, 1.0);    // brushed: cyan
+  else if (g_flag > 0.5 && highlight_masters == 1) base = vec3(1.0, 0.85, 0.2);  // master
+  vec3 c = base * (0.15 + 0.85 * diffuse) * ambient_occlusion + 0.35 * r * vec3(1.0) +
+           0.5 * trt * base * 2.0 * ambient_occlusion;
+  out_colour = vec4(c, g_alpha);
+}
+)";
+
+const char* kBodyVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+uniform mat4 view_projection;
+out vec3 f_normal;
+void main() { f_normal = normal; gl_Position = view_projection * vec4(position, 1.0); }
+)";
+
+const char* kBodyFragment = R"(#version 330 core
+in vec3 f_normal;
+uniform vec3 light;
+out vec4 out_colour;
+void main() {
+  vec3 n = normalize(f_normal);
+  float d = max(0.0, dot(n, normalize(light)));
+  float sky = 0.5 + 0.5 * n.z;
+  vec3 albedo = vec3(0.55, 0.42, 0.36);
+  out_colour = vec4(albedo * (0.9 * d + 0.25 * sky + 0.08), 1.0);
+}
+)";
+
+unsigned Compile(GLenum type, const char* source, std::string* error) {
+  const unsigned shader = glCreateShader(type);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    glGetShaderInfoLog(shader, sizeof(log), nullptr, log);
+    *error = std::string("shader: ") + log;
+    return 0;
+  }
+  return shader;
+}
+
+unsigned Link(std::initializer_list<std::pair<GLenum, const char*>> stages, std::string* error) {
+  const unsigned program = glCreateProgram();
+  for (const auto& [type, source] : stages) {
+    const unsigned s = Compile(type, source, error);
+    if (!s) return 0;
+    glAttachShader(program, s);
+    glDeleteShader(s);
+  }
+  glLinkProgram(program);
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    glGetProgramInfoLog(program, sizeof(log), nullptr, log);
+    *error = std::string("program: ") + log;
+    return 0;
+  }
+  return program;
+}
+
+void SetMatrix(unsigned program, const char* name, const Eigen::Matrix4f& m) {
+  glUniformMatrix4fv(glGetUniformLocation(program, name), 1, GL_FALSE, m.data());
+}
+void SetVec3(unsigned program, const char* name, const Eigen::Vector3f& v) {
+  glUniform3f(glGetUniformLocation(program, name), v.x(), v.y(), v.z());
+}
+
+}  // namespace
+
+Eigen::Vector3f MelaninColour(double eumelanin, double pheomelanin) {
+  const Rgb sigma = AbsorptionFromMelanin(eumelanin, pheomelanin);
+  Eigen::Vector3f c;
+  for (int k = 0; k < 3; ++k) c[k] = static_cast<float>(std::exp(-3.0 * sigma[k]));
+  return c.cwiseMax(0.01f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Camera
+
+Eigen::Vector3f OrbitCamera::Position() const {
+  const Eigen::Vector3f back(std::sin(yaw) * std::cos(pitch), -std::cos(yaw) * std::cos(pitch),
+                             std::sin(pitch));
+  return target + distance * back;
+}
+
+Eigen::Matrix4f OrbitCamera::View() const {
+  const Eigen::Vector3f eye = Position();
+  const Eigen::Vector3f f = (target - eye).normalized();
+  const Eigen::Vector3f s = f.cross(Eigen::Vector3f::UnitZ()).normalized();
+  const Eigen::Vector3f u = s.cross(f);
+  Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
+  m.block<1, 3>(0, 0) = s.transpose();
+  m.block<1, 3>(1, 0) = u.transpose();
+  m.block<1, 3>(2, 0) = -f.transpose();
+  m(0, 3) = -s.dot(eye);
+  m(1, 3) = -u.dot(eye);
+  m(2, 3) = f.dot(eye);
+  return m;
+}
+
+Eigen::Matrix4f OrbitCamera::Projection(float aspect) const {
+  const float near = std::max(1e-3f, distance * 0.02f), far = distance * 20.0f;
+  const float f = 1.0f / std::tan(0.5f * fov);
+  Eigen::Matrix4f m = Eigen::Matrix4f::Zero();
+  m(0, 0) = f / aspect;
+  m(1, 1) = f;
+  m(2, 2) = (far + near) / (near - far);
+  m(2, 3) = 2.0f * far * near / (near - far);
+  m(3, 2) = -1.0f;
+  return m;
+}
+
+void OrbitCamera::Orbit(float dyaw, float dpitch) {
+  yaw += dyaw;
+  pitch = std::clamp(pitch + dpitch, -1.5f, 1.5f);
+}
+
+void OrbitCamera::Pan(float dx, float dy) {
+  const Eigen::Matrix4f v = View();
+  const Eigen::Vector3f s = v.block<1, 3>(0, 0).transpose();
+  const Eigen::Vector3f u = v.block<1, 3>(1, 0).transpose();
+  target += distance * (dx * s + dy * u);
+}
+
+void OrbitCamera::Zoom(float factor) { distance = std::clamp(distance * factor, 0.02f, 50.0f); }
+
+void OrbitCamera::Frame(const Eigen::AlignedBox3f& box) {
+  if (box.isEmpty()) return;
+  target = box.center();
+  const float radius = 0.5f * box.diagonal().norm();
+  distance = radius / std::sin(0.5f * fov) * 1.02f;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Viewer
+
+Viewer::Viewer() = default;
+
+Viewer::~Viewer() {
+  if (hair_vao_) glDeleteVertexArrays(1, &hair_vao_);
+  if (body_vao_) glDeleteVertexArrays(1, &body_vao_);
+  const unsigned buffers[] = {hair_vbo_, flag_vbo_, hair_ebo_, master_ebo_, body_vbo_};
+  for (unsigned b : buffers) {
+    if (b) glDeleteBuffers(1, &b);
+  }
+  if (hair_program_) glDeleteProgram(hair_program_);
+  if (body_program_) glDeleteProgram(body_program_);
+}
+
+bool Viewer::Init(std::string* error) {
+  hair_program_ = Link({{GL_VERTEX_SHADER, kHairVertex},
+                        {GL_GEOMETRY_SHADER, kHairGeometry},
+                        {GL_FRAGMENT_SHADER, kHairFragment}},
+                       error);
+  body_program_ =
+      Link({{GL_VERTEX_SHADER, kBodyVertex}, {GL_FRAGMENT_SHADER, kBodyFragment}}, error);
+  if (!hair_program_ || !body_program_) return false;
+  glGenVertexArrays(1, &hair_vao_);
+  glGenBuffers(1, &hair_vbo_);
+  glGenBuffers(1, &flag_vbo_);
+  glGenBuffers(1, &hair_ebo_);
+  glGenBuffers(1, &master_ebo_);
+  glGenVertexArrays(1, &body_vao_);
+  glGenBuffers(1, &body_vbo_);
+  return true;
+}
+
+void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
+  hair_ = hair;
+  bounds_.setEmpty();
+  if (!hair || !hair->strands) return;
+  const HairCurves& c = *hair->strands;
+  // One interleaved VBO: position (3 floats) and width (1 float) per point.
+  std::vector<float> data(4 * c.points.size());
+  for (size_t i = 0; i < c.points.size(); ++i) {
+    data[4 * i + 0] = c.points[i].x();
+    data[4 * i + 1] = c.points[i].y();
+    data[4 * i + 2] = c.points[i].z();
+    data[4 * i + 3] = c.widths[i];
+    bounds_.extend(c.points[i]);
+  }
+  // Segments of every strand, and of the masters only (the first strand of each wisp).
+  const int masters = static_cast<int>(hair->styled.masters.models.size());
+  const int per_wisp = masters > 0 ? c.NumStrands() / masters : 1;
+  std::vector<std::uint32_t> all, master;
+  all.reserve(2 * c.points.size());
+  strand_of_master_.assign(masters, 0);
+  std::uint32_t first = 0;
+  for (int k = 0; k < c.NumStrands(); ++k) {
+    const bool is_master = per_wisp > 0 && k % per_wisp == 0;
+    if (is_master && k / per_wisp < masters) strand_of_master_[k / per_wisp] = k;
+    for (std::uint32_t j = 0; j + 1 < c.point_counts[k]; ++j) {
+      all.push_back(first + j);
+      all.push_back(first + j + 1);
+      if (is_master) {
+        master.push_back(first + j);
+        master.push_back(first + j + 1);
+      }
+    }
+    first += c.point_counts[k];
+  }
+  hair_indices_ = static_cast<long>(all.size());
+  master_indices_ = static_cast<long>(master.size());
+  glBindVertexArray(hair_vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, hair_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, data.size() * sizeof(float), data.data(), GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, 4 * sizeof(float),
+                        reinterpret_cast<void*>(3 * sizeof(float)));
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, hair_ebo_);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, all.size() * 4, all.data(), GL_STATIC_DRAW);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, master_ebo_);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, master.size() * 4, master.data(), GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  UploadFlags();
+  if (hair->styled.style.body.get() != body_) {
+    body_ = hair->styled.style.body.get();
+    if (body_) UploadBody(*body_);
+  }
+  if (body_) {
+    const Box3& b = body_->Bounds();
+    if (!b.isEmpty()) {
+      bounds_.extend(b.min().cast<float>());
+      bounds_.extend(b.max().cast<float>());
+    }
+  }
+}
+
+void Viewer::SetBrush(const std::vector<int>& masters) {
+  brush_ = masters;
+  UploadFlags();
+}
+
+void Viewer::UploadFlags() {
+  if (!hair_ || !hair_->strands) return;
+  const HairCurves& c = *hair_->strands;
+  const int masters = static_cast<int>(hair_->styled.masters.models.size());
+  const int per_wisp = masters > 0 ? std::max(1, c.NumStrands() / masters) : 1;
+  std::vector<float> master_flag(masters, 0.0f);
+  for (int i = 0; i < masters; ++i) {
+    const MasterStatus s =
+        i < static_cast<int>(hair_->status.size()) ? hair_->status[i] : MasterStatus::kConverged;
+    master_flag[i] = s == MasterStatus::kUnstable      ? 4.0f
+                     : s == MasterStatus::kUnconverged ? 3.0f
+                                                       : 0.0f;
+  }
+  for (int i : brush_) {
+    if (i >= 0 && i < masters && master_flag[i] == 0.0f) master_flag[i] = 2.0f;
+  }
+  std::vector<float> flags(c.points.size());
+  size_t p = 0;
+  for (int k = 0; k < c.NumStrands(); ++k) {
+    const int wisp = std::min(masters - 1, k / per_wisp);
+    float f = masters > 0 ? master_flag[wisp] : 0.0f;
+    if (f == 0.0f && k % per_wisp == 0) f = 1.0f;
+    for (std::uint32_t j = 0; j < c.point_counts[k]; ++j) flags[p++] = f;
+  }
+  glBindVertexArray(hair_vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, flag_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, flags.size() * sizeof(float), flags.data(), GL_DYNAMIC_DRAW);
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, sizeof(float), nullptr);
+  glBindVertexArray(0);
+}
+
+void Viewer::UploadBody(const Body& body) {
+  // Triangles with normals: each sphere tessellated (48 x 24), each mesh with face normals.
+  std::vector<float> data;
+  const auto vertex = [&data](const Vec3& p, const Vec3& n) {
+    for (int k = 0; k < 3; ++k) data.push_back(static_cast<float>(p[k]));
+    for (int k = 0; k < 3; ++k) data.push_back(static_cast<float>(n[k]));
+  };
+  for (const Sphere& s : body.spheres()) {
+    const int nu = 48, nv = 24;
+    const auto at = [&](int i, int j) {
+      const double u = 2.0 * M_PI * i / nu, v = M_PI * j / nv;
+      return Vec3(std::sin(v) * std::cos(u), std::sin(v) * std::sin(u), std::cos(v));
+    };
+    for (int i = 0; i < nu; ++i) {
+      for (int j = 0; j < nv; ++j) {
+        const Vec3 a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+        for (const Vec3& n : {a, b, c, a, c, d}) vertex(s.center + s.radius * n, n);
+      }
+    }
+  }
+  for (const TriangleMesh& m : body.meshes()) {
+    for (const auto& t : m.triangles()) {
+      const Vec3& a = m.vertices()[t[0]];
+      const Vec3& b = m.vertices()[t[1]];
+      const Vec3& c = m.vertices()[t[2]];
+      const Vec3 n = (b - a).cross(c - a).normalized();
+      vertex(a, n);
+      vertex(b, n);
+      vertex(c, n);
+    }
+  }
+  body_vertices_ = static_cast<long>(data.size() / 6);
+  glBindVertexArray(body_vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, body_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, data.size() * sizeof(float), data.data(), GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                        reinterpret_cast<void*>(3 * sizeof(float)));
+  glBindVertexArray(0);
+}
+
+void Viewer::Draw(const OrbitCamera& camera, const HairLook& look, int x0, int full_width,
+                  int height) {
+  glViewport(0, 0, full_width, height);
+  glClearColor(0.16f, 0.17f, 0.2f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  const int width = std::max(1, full_width - x0);
+  glViewport(x0, 0, width, height);
+  glEnable(GL_DEPTH_TEST);
+  const Eigen::Matrix4f vp =
+      camera.Projection(static_cast<float>(width) / std::max(1, height)) * camera.View();
+  const Eigen::Vector3f light = Eigen::Vector3f(-0.5f, -1.0f, 1.0f).normalized();
+  const Eigen::Vector3f eye = camera.Position();
+  if (body_vertices_ > 0) {
+    glUseProgram(body_program_);
+    SetMatrix(body_program_, "view_projection", vp);
+    SetVec3(body_program_, "light", light);
+    glBindVertexArray(body_vao_);
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(body_vertices_));
+  }
+  drawn_segments_ = 0;
+  if (hair_ && hair_->strands && hair_indices_ > 0) {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glUseProgram(hair_program_);
+    SetMatrix(hair_program_, "view_projection", vp);
+    SetVec3(hair_program_, "eye", eye);
+    SetVec3(hair_program_, "light", light);
+    SetVec3(hair_program_, "colour", look.colour);
+    Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+    float radius = 0.1f;
+    if (const auto* s = std::get_if<SphereScalp>(&hair_->styled.style.scalp)) {
+      centre = s->head.centre.cast<float>();
+      radius = static_cast<float>(s->radius);
+    }
+    SetVec3(hair_program_, "head_centre", centre);
+    glUniform1f(glGetUniformLocation(hair_program_, "head_radius"), radius);
+    glUniform1i(glGetUniformLocation(hair_program_, "highlight_masters"),
+                look.highlight_masters || look.masters_only ? 1 : 0);
+    glUniform1f(glGetUniformLocation(hair_program_, "pixels_per_unit"),
+                0.5f * height / std::tan(0.5f * camera.fov));
+    glBindVertexArray(hair_vao_);
+    const bool masters = look.masters_only;
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, masters ? master_ebo_ : hair_ebo_);
+    const long n = masters ? master_indices_ : hair_indices_;
+    glDrawElements(GL_LINES, static_cast<GLsizei>(n), GL_UNSIGNED_INT, nullptr);
+    drawn_segments_ = n / 2;
+    glDisable(GL_BLEND);
+  }
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+std::vector<int> Viewer::PickRoots(const OrbitCamera& camera, int x0, int full_width, int height,
+                                   float x, float y, float radius) const {
+  const int width = std::max(1, full_width - x0);
+  x -= static_cast<float>(x0);
+  std::vector<int> picked;
+  if (!hair_) return picked;
+  const Eigen::Matrix4f vp =
+      camera.Projection(static_cast<float>(width) / std::max(1, height)) * camera.View();
+  const Eigen::Vector3f eye = camera.Position();
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  if (const auto* s = std::get_if<SphereScalp>(&hair_->styled.style.scalp)) {
+    centre = s->head.centre.cast<float>();
+  }
+  const std::vector<Root>& roots = hair_->styled.masters.roots;
+  for (int i = 0; i < static_cast<int>(roots.size()); ++i) {
+    const Eigen::Vector3f p = roots[i].position.cast<float>();
+    if ((p - centre).dot(eye - p) <= 0.0f) continue;  // behind the head
+    const Eigen::Vector4f clip = vp * Eigen::Vector4f(p.x(), p.y(), p.z(), 1.0f);
+    if (clip.w() <= 0.0f) continue;
+    const float sx = (clip.x() / clip.w() * 0.5f + 0.5f) * width;
+    const float sy = (0.5f - clip.y() / clip.w() * 0.5f) * height;
+    if ((sx - x) * (sx - x) + (sy - y) * (sy - y) <= radius * radius) picked.push_back(i);
+  }
+  return picked;
+}
+
+}  // namespace ringlet::studio

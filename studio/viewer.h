@@ -1,0 +1,89 @@
+// The studio's OpenGL 3.3 view of a hairstyle: the body (spheres and meshes, lit) and every
+// strand as a camera-facing ribbon of the fibre's width (expanded in a geometry shader), shaded
+// with Kajiya-Kay plus two shifted highlights (Marschner's R and TRT), coloured from melanin.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <vector>
+
+#include "ringlet/body.h"
+#include "session.h"
+
+namespace ringlet::studio {
+
+/// Orbit camera: looks at target from yaw / pitch (rad) at distance (m).
+struct OrbitCamera {
+  Eigen::Vector3f target = Eigen::Vector3f(0.0f, 0.0f, -0.05f);
+  float yaw = 0.5f;     ///< around +z, 0 = looking along +y (from the front of the face: -y side)
+  float pitch = 0.15f;  ///< elevation (rad), in (-pi/2, pi/2)
+  float distance = 0.9f;
+  float fov = 0.6f;  ///< vertical field of view (rad)
+
+  Eigen::Vector3f Position() const;
+  Eigen::Matrix4f View() const;
+  Eigen::Matrix4f Projection(float aspect) const;
+  void Orbit(float dyaw, float dpitch);
+  /// Moves the target in the view plane by (dx, dy) in units of the distance.
+  void Pan(float dx, float dy);
+  void Zoom(float factor);
+  /// Frames the box (its bounding sphere fills the view).
+  void Frame(const Eigen::AlignedBox3f& box);
+};
+
+/// What the hair looks like.
+struct HairLook {
+  Eigen::Vector3f colour = Eigen::Vector3f(0.25f, 0.15f, 0.08f);  ///< linear RGB of the fibres
+  bool masters_only = false;                                      ///< draw the master strands alone
+  bool highlight_masters = false;
+};
+
+/// The base colour of hair with these melanins: exp(-3 sigma_a) of Chiang's absorption
+/// (AbsorptionFromMelanin; two passes through the fibre, the TT/TRT path), a simple mapping.
+Eigen::Vector3f MelaninColour(double eumelanin, double pheomelanin);
+
+class Viewer {
+ public:
+  Viewer();
+  ~Viewer();
+  Viewer(const Viewer&) = delete;
+  Viewer& operator=(const Viewer&) = delete;
+
+  /// Creates the GL objects (a current 3.3 core context is required). False with a message.
+  bool Init(std::string* error);
+  /// Uploads the strands of a hair state (one VBO, one index buffer for all strands, one for
+  /// the masters) and the body.
+  void SetHair(const std::shared_ptr<const HairState>& hair);
+  /// Marks the brushed masters (highlighted) and re-uploads the per-vertex flags.
+  void SetBrush(const std::vector<int>& masters);
+  /// Draws into the current framebuffer of full_width x height pixels, the 3D view in the
+  /// columns from x0 on (the panel covers the left).
+  void Draw(const OrbitCamera& camera, const HairLook& look, int x0, int full_width, int height);
+  /// The box of the hair and body (for frame-all).
+  const Eigen::AlignedBox3f& Bounds() const { return bounds_; }
+  /// Masters whose roots are within radius pixels of (x, y) (pixels, top-left origin) and face
+  /// the camera.
+  std::vector<int> PickRoots(const OrbitCamera& camera, int x0, int full_width, int height, float x,
+                             float y, float radius) const;
+  /// Number of segments drawn by the last Draw.
+  long DrawnSegments() const { return drawn_segments_; }
+
+ private:
+  void UploadFlags();
+  void UploadBody(const Body& body);
+
+  std::shared_ptr<const HairState> hair_;
+  const Body* body_ = nullptr;
+  std::vector<int> brush_;
+  unsigned hair_program_ = 0, body_program_ = 0;
+  unsigned hair_vao_ = 0, hair_vbo_ = 0, flag_vbo_ = 0, hair_ebo_ = 0, master_ebo_ = 0;
+  long hair_indices_ = 0, master_indices_ = 0;
+  unsigned body_vao_ = 0, body_vbo_ = 0;
+  long body_vertices_ = 0;
+  std::vector<std::uint32_t> strand_of_master_;  // first strand of each wisp
+  Eigen::AlignedBox3f bounds_;
+  long drawn_segments_ = 0;
+};
+
+}  // namespace ringlet::studio

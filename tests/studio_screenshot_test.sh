@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# The studio's scripted headless mode under xvfb-run with Mesa's llvmpipe: a styling session
+# (open, brush, curl, cut, wet, orbit, save), its screenshots checked for content (not bytes),
+# and the saved file given to `ringlet style`. Skipped (exit 77) when xvfb-run is missing.
+set -euo pipefail
+: "${STUDIO:?}" "${RINGLET:?}" "${DIR:?}"
+if ! command -v xvfb-run >/dev/null; then
+  echo "xvfb-run not found: skipped"
+  exit 77
+fi
+OUT=$(mktemp -d)
+trap 'rm -rf "$OUT"' EXIT
+sed -e "s|@DIR@|$DIR|g" -e "s|@OUT@|$OUT|g" "$DIR/screenshot_test.script" > "$OUT/script.txt"
+LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1280x800x24" \
+  "$STUDIO" --script "$OUT/script.txt" --size 1280x800
+for f in before curl cut wet_orbit; do test -s "$OUT/$f.png"; done
+/usr/bin/python3 "$DIR/check_screenshots.py" "$OUT"
+# The saved session is what `ringlet style` reproduces (bit for bit: studio_tests).
+"$RINGLET" style "$OUT/saved.json" -o "$OUT/styled" -q
+test -s "$OUT/styled/strands.hair"
+echo "studio screenshot test: ok"

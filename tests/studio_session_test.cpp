@@ -1,0 +1,348 @@
+// The studio's editing model without GL (studio/session.h): edits, re-solves on the worker,
+// undo / redo, cancellation, and the save -> `ringlet style` round trip, bit for bit.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "ringlet/hairstyle_json.h"
+#include "ringlet/styling.h"
+#include "session.h"
+
+namespace ringlet::studio {
+namespace {
+
+using ojson = nlohmann::ordered_json;
+
+// A small head of wavy hair on the example mannequin: `count` masters, 4 strands per wisp.
+ojson SmallDocument(int count = 60) {
+  return ojson::parse(R"({
+    "body": "bodies/mannequin.json",
+    "masters": {"count": )" +
+                      std::to_string(count) + R"(, "seed": 3, "segments": 12},
+    "comb": {"tilt": 1.2, "direction": [0, 0, -1], "parting": {"normal": [1, 0, 0], "offset": 0.03}},
+    "hair": {"origin": "caucasian", "curl": "wavy", "length": 0.2, "seed": 2},
+    "wisps": {"strands_per_wisp": 4, "jitter": 0.001, "points_per_strand": 16},
+    "layers": {"count": 3, "thickness": 0.003}
+  })");
+}
+
+std::string TempPath(const std::string& name) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("ringlet_studio_test_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+// The hair `ringlet style FILE -o OUT/` makes of a file (the code path of cli/style_command.cpp:
+// LoadHairstyle, GroomHairstyle, MakeStyledHair, ApplyOperation in order, StyledStrands).
+HairCurves StyleFile(const std::string& path) {
+  Hairstyle style;
+  std::vector<StyleOperation> operations;
+  std::string error;
+  EXPECT_TRUE(LoadHairstyle(path, &style, &operations, &error)) << error;
+  Groom groom;
+  EXPECT_TRUE(GroomHairstyle(style, {}, &groom, &error)) << error;
+  StyledHair state;
+  EXPECT_TRUE(MakeStyledHair(style, groom, &state, &error)) << error;
+  for (const StyleOperation& op : operations) {
+    EXPECT_TRUE(ApplyOperation(&state, op, {}, nullptr, nullptr, &error)) << error;
+  }
+  HairCurves strands;
+  EXPECT_TRUE(StyledStrands(state, &strands, &error)) << error;
+  return strands;
+}
+
+// Bit-exact comparison of two sets of strands.
+void ExpectSameBits(const HairCurves& a, const HairCurves& b) {
+  ASSERT_EQ(a.point_counts, b.point_counts);
+  ASSERT_EQ(a.points.size(), b.points.size());
+  ASSERT_GT(a.points.size(), 0u);
+  EXPECT_EQ(0, std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(Vec3f)));
+  ASSERT_EQ(a.widths.size(), b.widths.size());
+  EXPECT_EQ(0, std::memcmp(a.widths.data(), b.widths.data(), a.widths.size() * sizeof(float)));
+}
+
+double MeanLength(const StyledHair& hair) {
+  double sum = 0.0;
+  for (const StrandModel& m : hair.masters.models) sum += m.Length();
+  return sum / hair.masters.models.size();
+}
+
+class StudioSession : public ::testing::Test {
+ protected:
+  void Open(int count = 60) {
+    std::string error;
+    ASSERT_TRUE(
+        session.OpenDocument(SmallDocument(count), RINGLET_EXAMPLES_DIR, "small.json", &error))
+        << error;
+    session.Wait();
+    ASSERT_TRUE(session.Hair());
+    ASSERT_TRUE(session.UpToDate());
+  }
+  Session session;
+};
+
+TEST_F(StudioSession, OpenGroomsTheHair) {
+  Open();
+  const HairState& hair = *session.Hair();
+  EXPECT_EQ(hair.stats.what, "groom");
+  EXPECT_EQ(hair.stats.masters, 60);
+  EXPECT_EQ(hair.stats.resolved, 60);
+  EXPECT_GT(hair.stats.iterations, 0);
+  EXPECT_EQ(hair.strands->NumStrands(), 60 * 4);
+  EXPECT_EQ(hair.status.size(), 60u);
+}
+
+TEST_F(StudioSession, BadFileKeepsTheHair) {
+  Open();
+  const auto before = session.Hair();
+  ojson bad = SmallDocument();
+  bad["hair"]["origin"] = "martian";
+  std::string error;
+  EXPECT_FALSE(session.OpenDocument(bad, RINGLET_EXAMPLES_DIR, "bad.json", &error));
+  // The CLI's message: the reader's, naming the field.
+  EXPECT_NE(error.find("hair.origin"), std::string::npos) << error;
+  EXPECT_NE(error.find("martian"), std::string::npos) << error;
+  EXPECT_EQ(session.Hair(), before);
+  EXPECT_FALSE(session.Open("/nonexistent/hairstyle.json", &error));
+  EXPECT_NE(error.find("/nonexistent/hairstyle.json"), std::string::npos) << error;
+  EXPECT_FALSE(session.SetParameter("hair.length", -1.0, &error));
+  EXPECT_NE(error.find("hair.length"), std::string::npos) << error;
+  EXPECT_EQ(session.Hair(), before);
+  EXPECT_FALSE(session.CanUndo());
+}
+
+TEST_F(StudioSession, OperationChangesTheModelAndResolvesWarm) {
+  Open();
+  const auto before = session.Hair();
+  StyleOperation cut;
+  cut.kind = StyleOperation::Kind::kCut;
+  cut.cut_region.offset = -0.12;  // keep z >= -0.12
+  std::string error;
+  ASSERT_TRUE(session.AddOperation(cut, &error)) << error;
+  session.Wait();
+  const auto after = session.Hair();
+  ASSERT_NE(after, before);
+  EXPECT_EQ(after->stats.what, "cut");
+  EXPECT_GT(after->stats.resolved, 0);
+  EXPECT_LT(MeanLength(after->styled), MeanLength(before->styled));
+  // The groom was not redone: the unstyled masters are shared.
+  EXPECT_EQ(after->base, before->base);
+  // A cut is a warm-started re-solve: fewer iterations than the groom.
+  EXPECT_LT(after->stats.iterations, before->stats.iterations);
+}
+
+TEST_F(StudioSession, BrushedCurlActsOnTheBrushedMastersOnly) {
+  Open();
+  const auto before = session.Hair();
+  StyleOperation curl;
+  curl.kind = StyleOperation::Kind::kCurl;
+  curl.curl_radius = 0.008;
+  curl.curl_pitch = 0.02;
+  curl.selection.indices = {1, 5, 7};
+  std::string error;
+  ASSERT_TRUE(session.AddOperation(curl, &error)) << error;
+  session.Wait();
+  const auto after = session.Hair();
+  EXPECT_EQ(after->stats.resolved, 3);
+  for (int i = 0; i < 60; ++i) {
+    const bool brushed = i == 1 || i == 5 || i == 7;
+    EXPECT_EQ(after->styled.masters.models[i].natural_curvature !=
+                  before->styled.masters.models[i].natural_curvature,
+              brushed)
+        << i;
+  }
+  curl.selection.indices = {60};
+  EXPECT_FALSE(session.AddOperation(curl, &error));
+  EXPECT_NE(error.find("60"), std::string::npos) << error;
+}
+
+TEST_F(StudioSession, UndoRedo) {
+  Open();
+  const auto groomed = session.Hair();
+  StyleOperation wet;
+  wet.kind = StyleOperation::Kind::kWet;
+  std::string error;
+  ASSERT_TRUE(session.AddOperation(wet, &error)) << error;
+  session.Wait();
+  const auto wetted = session.Hair();
+  EXPECT_TRUE(wetted->styled.wet);
+  StyleOperation wet_again = wet;
+  EXPECT_FALSE(session.AddOperation(wet_again, &error));  // already wet
+  ASSERT_TRUE(session.SetParameter("wisps.jitter", 0.002, &error)) << error;
+  session.Wait();
+  const auto jittered = session.Hair();
+  // Only the wisps changed: every master kept its solution, the operations were replayed.
+  EXPECT_EQ(jittered->stats.reused, 60);
+  EXPECT_TRUE(jittered->styled.wet);
+
+  ASSERT_TRUE(session.Undo());
+  session.Wait();
+  EXPECT_EQ(session.Hair(), wetted);  // shown at once, not re-solved
+  ASSERT_TRUE(session.Undo());
+  session.Wait();
+  EXPECT_EQ(session.Hair(), groomed);
+  EXPECT_FALSE(session.Undo());
+  EXPECT_EQ(session.CurrentDocument().operations.size(), 0u);
+  ASSERT_TRUE(session.Redo());
+  ASSERT_TRUE(session.Redo());
+  session.Wait();
+  EXPECT_EQ(session.Hair(), jittered);
+  EXPECT_FALSE(session.Redo());
+  // A new edit after an undo drops the redo branch.
+  ASSERT_TRUE(session.Undo());
+  StyleOperation dry;
+  dry.kind = StyleOperation::Kind::kDry;
+  ASSERT_TRUE(session.AddOperation(dry, &error)) << error;
+  session.Wait();
+  EXPECT_FALSE(session.CanRedo());
+  EXPECT_FALSE(session.Hair()->styled.wet);
+  EXPECT_EQ(session.HistoryLabels().size(), 3u);
+}
+
+TEST_F(StudioSession, SaveReproducesTheHairBitForBit) {
+  Open();
+  std::string error;
+  StyleOperation curl;
+  curl.kind = StyleOperation::Kind::kCurl;
+  curl.curl_radius = 0.01;
+  curl.curl_pitch = 0.03;
+  curl.selection.indices = {0, 2, 3, 10, 11, 12, 40};
+  ASSERT_TRUE(session.AddOperation(curl, &error)) << error;
+  ASSERT_TRUE(session.SetParameter("hair.length", 0.23, &error)) << error;
+  StyleOperation wet;
+  wet.kind = StyleOperation::Kind::kWet;
+  ASSERT_TRUE(session.AddOperation(wet, &error)) << error;
+  session.Wait();
+  StyleOperation cut;
+  cut.kind = StyleOperation::Kind::kCut;
+  cut.cut_region.kind = CutRegion::Kind::kInsideSphere;
+  cut.cut_region.centre = Vec3(0.0, 0.01, 0.02);
+  cut.cut_region.radius = 0.2;
+  ASSERT_TRUE(session.AddOperation(cut, &error)) << error;
+  StyleOperation dry;
+  dry.kind = StyleOperation::Kind::kDry;
+  ASSERT_TRUE(session.AddOperation(dry, &error)) << error;
+  StyleOperation grow;
+  grow.kind = StyleOperation::Kind::kGrow;
+  grow.grow_step = 0.005;
+  grow.grow_steps = 2;
+  ASSERT_TRUE(session.AddOperation(grow, &error)) << error;
+  session.Wait();
+  ASSERT_TRUE(session.UpToDate());
+  EXPECT_TRUE(session.Modified());
+
+  // Saved into another directory: the body path is rewritten relative to it.
+  const std::string path = TempPath("saved/styled.json");
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  ASSERT_TRUE(session.Save(path, &error)) << error;
+  EXPECT_FALSE(session.Modified());
+  ExpectSameBits(*session.Hair()->strands, StyleFile(path));
+
+  // Opening the saved file gives the same document and, solved from scratch, the same hair.
+  Session reopened;
+  ASSERT_TRUE(reopened.Open(path, &error)) << error;
+  reopened.Wait();
+  EXPECT_EQ(reopened.CurrentDocument().operations.size(), 5u);
+  ExpectSameBits(*session.Hair()->strands, *reopened.Hair()->strands);
+}
+
+TEST_F(StudioSession, OperationJsonRoundTrips) {
+  std::vector<StyleOperation> ops(5);
+  ops[0].kind = StyleOperation::Kind::kCurl;
+  ops[0].curl_radius = std::numeric_limits<double>::infinity();
+  ops[0].curl_pitch = 0.1 / 3.0;
+  ops[0].selection.min_polar_angle = 0.1;
+  ops[0].selection.max_polar_angle = 0.7;
+  ops[1].kind = StyleOperation::Kind::kWet;
+  ops[1].wet.swelling = 1.1;
+  ops[2].kind = StyleOperation::Kind::kCut;
+  ops[2].cut_region.normal = Vec3(0.1, 0.2, 1.0);
+  ops[2].cut_region.offset = -0.1 / 7.0;
+  ops[2].cut.settle = true;
+  ops[3].kind = StyleOperation::Kind::kCut;
+  ops[3].cut_region.kind = CutRegion::Kind::kMaxLength;
+  ops[3].cut_region.length = 0.17;
+  ops[4].kind = StyleOperation::Kind::kGrow;
+  ops[4].grow_step = 0.003;
+  ops[4].grow_steps = 3;
+  nlohmann::json document = {{"operations", nlohmann::json::array()}};
+  for (const StyleOperation& op : ops) {
+    document["operations"].push_back(nlohmann::json::parse(OperationToJson(op).dump()));
+  }
+  std::vector<StyleOperation> back;
+  std::string error;
+  ASSERT_TRUE(ParseStyleOperations(document, &back, &error)) << error;
+  ASSERT_EQ(back.size(), ops.size());
+  for (size_t k = 0; k < ops.size(); ++k) {
+    EXPECT_EQ(OperationToJson(back[k]), OperationToJson(ops[k])) << k;
+  }
+  EXPECT_EQ(back[0].curl_pitch, ops[0].curl_pitch);
+  EXPECT_EQ(back[2].cut_region.offset, ops[2].cut_region.offset);
+  EXPECT_EQ(back[2].cut_region.normal, ops[2].cut_region.normal);
+}
+
+// The library's hook: a set cancel flag stops an operation between blocks of masters.
+TEST(StudioCancel, OperationStopsWhenCancelled) {
+  Hairstyle style;
+  std::string error;
+  ASSERT_TRUE(
+      ParseHairstyle(nlohmann::json(SmallDocument(200)), RINGLET_EXAMPLES_DIR, &style, &error))
+      << error;
+  Groom groom;
+  ASSERT_TRUE(GroomHairstyle(style, {}, &groom, &error)) << error;
+  StyledHair state;
+  ASSERT_TRUE(MakeStyledHair(style, groom, &state, &error)) << error;
+  StyleOperation wet;
+  wet.kind = StyleOperation::Kind::kWet;
+
+  // Cancelled after the first masters: the operation stops early and says so.
+  std::atomic<bool> cancel{false};
+  int solved = 0;
+  BatchOptions batch;
+  batch.threads = 1;
+  batch.cancel = &cancel;
+  batch.progress = [&](int done, int) {
+    solved = done;
+    if (done >= 5) cancel = true;
+  };
+  StyledHair copy = state;
+  EXPECT_FALSE(ApplyOperation(&copy, wet, batch, nullptr, nullptr, &error));
+  EXPECT_EQ(error, "cancelled");
+  EXPECT_LT(solved, 200);
+
+  // Not cancelled: the same result as without a flag (blocks do not change the solves).
+  cancel = false;
+  batch.progress = nullptr;
+  StyledHair with_flag = state, without = state;
+  ASSERT_TRUE(ApplyOperation(&with_flag, wet, batch, nullptr, nullptr, &error)) << error;
+  ASSERT_TRUE(ApplyOperation(&without, wet, {}, nullptr, nullptr, &error)) << error;
+  for (int i = 0; i < 200; ++i) {
+    ASSERT_EQ(with_flag.solutions[i].curvatures, without.solutions[i].curvatures) << i;
+  }
+}
+
+// A newer edit cancels the stale solve: the hair shown is the newest edit's.
+TEST_F(StudioSession, NewerEditCancelsStaleSolve) {
+  Open(200);
+  std::string error;
+  ASSERT_TRUE(session.SetParameter("hair.length", 0.21, &error)) << error;  // 200 re-solves
+  StyleOperation wet;
+  wet.kind = StyleOperation::Kind::kWet;
+  ASSERT_TRUE(session.AddOperation(wet, &error)) << error;
+  ASSERT_TRUE(session.SetParameter("hair.length", 0.22, &error)) << error;
+  session.Wait();
+  ASSERT_TRUE(session.UpToDate());
+  EXPECT_GE(session.CancelledSolves(), 1);
+  const std::string path = TempPath("cancel.json");
+  ASSERT_TRUE(session.Save(path, &error)) << error;
+  ExpectSameBits(*session.Hair()->strands, StyleFile(path));
+}
+
+}  // namespace
+}  // namespace ringlet::studio
