@@ -118,9 +118,11 @@ header = b"HAIR" + struct.pack("<IIII", 0xFFFFFFFF, 1, 2, 1) + struct.pack("<5f"
 open(sys.argv[1], "wb").write(header.ljust(128, b"\0") + struct.pack("<3f", 0, 0, 0))
 EOF
 [ "$(wc -c <"$work/in/huge.hair")" -eq 140 ] && ok || fail "huge.hair is not 140 bytes"
-# Under a 1 GiB address-space limit: the old reader asked for 17 GB.
+# Under a 1 GiB address-space limit: the old reader asked for 17 GB. AddressSanitizer reserves
+# terabytes of shadow address space, so under it the limit is left out (the check on the
+# message and exit code still runs).
 (
-  ulimit -v 1048576
+  grep -q __asan_init "$RINGLET" 2>/dev/null || ulimit -v 1048576
   run render "$work/in/huge.hair" -o "$work/never/image.png"
   echo "$rc" >"$work/rc"
 )
