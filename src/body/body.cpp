@@ -16,6 +16,9 @@
 namespace ringlet {
 namespace {
 
+// Largest distance grid Body::Create builds: 4 bytes per node, 256 MB.
+constexpr double kMaxGridNodes = 64e6;
+
 // A number as quoted in messages: the shortest %g form that reads back exactly (-0.1, not
 // -0.10000000000000001).
 std::string NumberText(double x) {
@@ -136,6 +139,22 @@ bool Body::Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes,
       }
       return best;
     };
+    // Memory guard: the node count of the box enlarged by band + 3 h at this spacing.
+    const Vec3 nodes =
+        ((mesh_box.sizes().array() + 2.0 * (mesh_distance.band + 3.0 * mesh_distance.spacing)) /
+             mesh_distance.spacing +
+         2.0)
+            .matrix();
+    if (nodes.prod() > kMaxGridNodes) {
+      if (error) {
+        *error = "mesh_distance.spacing: " + NumberText(mesh_distance.spacing) + " m gives " +
+                 NumberText(std::round(nodes.prod() / 1e6)) +
+                 " million grid nodes over the meshes' box (at most " +
+                 NumberText(kMaxGridNodes / 1e6) +
+                 " million): use a coarser spacing or exact queries";
+      }
+      return false;
+    }
     const auto start = std::chrono::steady_clock::now();
     result.grid_ = std::make_shared<const internal::DistanceGrid>(internal::DistanceGrid::Build(
         exact, mesh_box, mesh_distance.spacing, mesh_distance.band, mesh_distance.threads));
