@@ -288,6 +288,7 @@ TEST(DistanceGrid, BadOptionsAreOneLineErrors) {
   EXPECT_FALSE(Body::Create({}, {Icosphere(1, 0.1)}, &body, &why, 0.0, options));
   EXPECT_EQ(why, "mesh_distance.band: expected a finite number > 0 (m), got -1");
   // Too many nodes: a clear message, no allocation attempted.
+  options.mode = MeshDistanceOptions::Mode::kGrid;
   options.band = 0.03;
   options.spacing = 1e-4;
   EXPECT_FALSE(Body::Create({}, {Icosphere(1, 0.1)}, &body, &why, 0.0, options));
