@@ -118,7 +118,7 @@ double DistanceGrid::Evaluate(const Vec3& x, Vec3* gradient, Mat3* hessian) cons
   // leave the grid, where F = band (Build's margin).
   const Vec3 u = (x - origin_) * inverse_spacing_;
   int cell[3];
-  Weights w[3];
+  double t[3];
   for (int a = 0; a < 3; ++a) {
     const double f = std::floor(u(a));
     if (!(f >= 1.0 && f <= size_(a) - 3.0)) {
@@ -127,12 +127,24 @@ double DistanceGrid::Evaluate(const Vec3& x, Vec3* gradient, Mat3* hessian) cons
       return band_;
     }
     cell[a] = static_cast<int>(f);
-    w[a] = SplineWeights(u(a) - f);
+    t[a] = u(a) - f;
   }
-  const int nx = size_.x(), ny = size_.y();
   const float* base =
       values_.data() +
-      ((static_cast<size_t>(cell[2] - 1) * ny + (cell[1] - 1)) * nx + (cell[0] - 1));
+      ((static_cast<size_t>(cell[2] - 1) * size_.y() + (cell[1] - 1)) * size_.x() + (cell[0] - 1));
+  // The broad phase asks for values only, contact samples for gradients, the certificate for
+  // Hessians: three instances of one contraction, each computing only what it returns.
+  if (hessian) return Contract<2>(base, t, gradient, hessian);
+  if (gradient) return Contract<1>(base, t, gradient, nullptr);
+  return Contract<0>(base, t, nullptr, nullptr);
+}
+
+template <int kOrder>
+double DistanceGrid::Contract(const float* base, const double t[3], Vec3* gradient,
+                              Mat3* hessian) const {
+  Weights w[3];
+  for (int a = 0; a < 3; ++a) w[a] = SplineWeights(t[a]);
+  const int nx = size_.x(), ny = size_.y();
   // Contract x first, then y, then z, carrying the derivative weights along: 16 rows of 4
   // nodes give value, d/dx and d2/dx2 per row; then per z-slice the y contraction.
   double value = 0.0;
@@ -147,30 +159,40 @@ double DistanceGrid::Evaluate(const Vec3& x, Vec3* gradient, Mat3* hessian) cons
       for (int a = 0; a < 4; ++a) {
         const double v = row[a];
         r0 += w[0].w[a] * v;
-        r1 += w[0].dw[a] * v;
-        r2 += w[0].ddw[a] * v;
+        if constexpr (kOrder >= 1) r1 += w[0].dw[a] * v;
+        if constexpr (kOrder >= 2) r2 += w[0].ddw[a] * v;
       }
       s[0] += w[1].w[b] * r0;
-      s[1] += w[1].w[b] * r1;
-      s[2] += w[1].w[b] * r2;
-      s[3] += w[1].dw[b] * r0;
-      s[4] += w[1].dw[b] * r1;
-      s[5] += w[1].ddw[b] * r0;
+      if constexpr (kOrder >= 1) {
+        s[1] += w[1].w[b] * r1;
+        s[3] += w[1].dw[b] * r0;
+      }
+      if constexpr (kOrder >= 2) {
+        s[2] += w[1].w[b] * r2;
+        s[4] += w[1].dw[b] * r1;
+        s[5] += w[1].ddw[b] * r0;
+      }
     }
-    const double wz = w[2].w[c], dwz = w[2].dw[c], ddwz = w[2].ddw[c];
+    const double wz = w[2].w[c];
     value += wz * s[0];
-    g.x() += wz * s[1];
-    g.y() += wz * s[3];
-    g.z() += dwz * s[0];
-    h(0, 0) += wz * s[2];
-    h(0, 1) += wz * s[4];
-    h(1, 1) += wz * s[5];
-    h(0, 2) += dwz * s[1];
-    h(1, 2) += dwz * s[3];
-    h(2, 2) += ddwz * s[0];
+    if constexpr (kOrder >= 1) {
+      const double dwz = w[2].dw[c];
+      g.x() += wz * s[1];
+      g.y() += wz * s[3];
+      g.z() += dwz * s[0];
+      if constexpr (kOrder >= 2) {
+        const double ddwz = w[2].ddw[c];
+        h(0, 0) += wz * s[2];
+        h(0, 1) += wz * s[4];
+        h(1, 1) += wz * s[5];
+        h(0, 2) += dwz * s[1];
+        h(1, 2) += dwz * s[3];
+        h(2, 2) += ddwz * s[0];
+      }
+    }
   }
-  if (gradient) *gradient = g * inverse_spacing_;
-  if (hessian) {
+  if constexpr (kOrder >= 1) *gradient = g * inverse_spacing_;
+  if constexpr (kOrder >= 2) {
     h(1, 0) = h(0, 1);
     h(2, 0) = h(0, 2);
     h(2, 1) = h(1, 2);

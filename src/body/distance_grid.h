@@ -45,6 +45,11 @@ class DistanceGrid {
   std::size_t MemoryBytes() const { return values_.size() * sizeof(float); }
 
  private:
+  // The B-spline contraction of the 4^3 nodes from base at cell coordinates t, with derivatives
+  // up to kOrder (0, 1, 2).
+  template <int kOrder>
+  double Contract(const float* base, const double t[3], Vec3* gradient, Mat3* hessian) const;
+
   Vec3 origin_ = Vec3::Zero();
   double spacing_ = 0.0;
   double inverse_spacing_ = 0.0;
