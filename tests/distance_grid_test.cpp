@@ -253,7 +253,7 @@ TEST(DistanceGrid, MannequinErrorBuildTimeAndMemory) {
   Body exact;
   ASSERT_TRUE(Body::Create({}, meshes, &exact, &error, kDefaultBodyBlend));
   // 2 mm: docs/benchmarks.md (4.6 s to build, too slow for a test).
-  for (double h : {0.003, 0.004, 0.006, 0.008}) {
+  for (double h : {0.003, 0.004, 0.005, 0.006, 0.008}) {
     const Body grid = MannequinGrid(h, 0);
     double worst = 0.0, worst_normal = 0.0;
     for (const Vec3& x : RandomPoints(exact.Bounds(), 20000, 5)) {

@@ -182,7 +182,7 @@ struct MeshDistanceOptions {
   /// The mode; exact by default in the C++ API (body files default to the grid).
   Mode mode = Mode::kExact;
   /// Grid spacing h (m), finite, > 0 and >= 1e-4.
-  double spacing = 0.004;
+  double spacing = 0.005;
   /// Half-width of the exact band (m), finite and > 0: node values are clamped to [-band, band].
   /// Must exceed the largest contact clearance plus half a segment for the contact broad phase
   /// to skip segments.
