@@ -239,7 +239,11 @@ class Body final : public Obstacle {
   /// push-out direction is that of the deepest component). It is 1-Lipschitz (a minimum of
   /// 1-Lipschitz functions). The gradient is that of the minimizing component (the first one in
   /// sphere-then-mesh order on ties). Spheres cost one square root each and no allocation;
-  /// meshes are skipped when x is farther from their box than the best distance so far.
+  /// meshes are skipped when x is farther from their box than the best distance so far. With a
+  /// distance grid (MeshDistanceOptions::kGrid) the meshes' part is the grid's B-spline: within
+  /// the grid spacing h of the exact value near the surface (measured 0.9 mm on the mannequin at
+  /// h = 5 mm), clamped to +-band beyond, each partial derivative bounded by 1 (measured
+  /// |gradient| <= 1.006), C^2; one grid query (~65 ns) replaces the tree queries.
   double SignedDistance(const Vec3& x, Vec3* gradient) const override;
 
   /// SignedDistance with its exact Hessian (1/m): (I - n n^T)/|x - c| for a sphere, the mesh's
