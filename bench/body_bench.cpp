@@ -59,6 +59,14 @@ Body Load(const std::string& name) {
   return body;
 }
 
+// The same body with exact mesh queries (body files default to the distance grid).
+Body Exact(const Body& body) {
+  Body exact;
+  std::string error;
+  if (!Body::Create(body.spheres(), body.meshes(), &exact, &error, body.blend())) std::abort();
+  return exact;
+}
+
 void Run(benchmark::State& state, const Body& body, const std::vector<Vec3>& points) {
   const Obstacle& obstacle = body;  // through the virtual interface, as the contact energy
   size_t i = 0;
@@ -83,7 +91,7 @@ void BM_SpheresNearHead(benchmark::State& state) {
 BENCHMARK(BM_SpheresNearHead)->Arg(2)->Arg(50)->ArgName("offset_mm");
 
 void BM_MeshNearHead(benchmark::State& state) {
-  static const Body body = Load("mannequin_mesh.json");
+  static const Body body = Exact(Load("mannequin_mesh.json"));
   const std::vector<Vec3> points =
       NearHead(body, 1e-3 * static_cast<double>(state.range(0)), kPoints);
   Run(state, body, points);
@@ -106,11 +114,43 @@ void BM_HeadMeshOnly(benchmark::State& state) {
 BENCHMARK(BM_HeadMeshOnly)->Arg(2)->Arg(10)->Arg(50)->ArgName("offset_mm");
 
 void BM_MeshInBox(benchmark::State& state) {
-  static const Body body = Load("mannequin_mesh.json");
+  static const Body body = Exact(Load("mannequin_mesh.json"));
   static const std::vector<Vec3> points = Points(body, 0.1, kPoints);
   Run(state, body, points);
 }
 BENCHMARK(BM_MeshInBox);
+
+// The body file's default: the distance grid (docs/body.md, "Distance grid").
+void BM_MeshGridNearHead(benchmark::State& state) {
+  static const Body body = Load("mannequin_mesh.json");
+  const std::vector<Vec3> points =
+      NearHead(body, 1e-3 * static_cast<double>(state.range(0)), kPoints);
+  Run(state, body, points);
+}
+BENCHMARK(BM_MeshGridNearHead)->Arg(2)->Arg(10)->Arg(50)->ArgName("offset_mm");
+
+void BM_MeshGridInBox(benchmark::State& state) {
+  static const Body body = Load("mannequin_mesh.json");
+  static const std::vector<Vec3> points = Points(body, 0.1, kPoints);
+  Run(state, body, points);
+}
+BENCHMARK(BM_MeshGridInBox);
+
+// Value, gradient and Hessian (the stability certificate's query).
+void BM_MeshGridHessianNearHead(benchmark::State& state) {
+  static const Body body = Load("mannequin_mesh.json");
+  const std::vector<Vec3> points = NearHead(body, 0.01, kPoints);
+  const Obstacle& obstacle = body;
+  size_t i = 0;
+  Vec3 g;
+  Mat3 h;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(obstacle.SignedDistanceHessian(points[i], &g, &h));
+    benchmark::DoNotOptimize(h);
+    i = (i + 1) & (points.size() - 1);
+  }
+}
+BENCHMARK(BM_MeshGridHessianNearHead);
 
 void BM_MeshBruteForceNearHead(benchmark::State& state) {
   // The reference without the hierarchy: one mesh component (the head), every triangle.

@@ -80,7 +80,8 @@ TEST(BodyJson, MessagesNameTheFieldUnderThePrefix) {
   EXPECT_EQ(Error(spheres), "body.spheres[2].radius: expected a positive number (m), got -0.1");
 
   EXPECT_EQ(Error(json::parse(R"({"spheres": [], "colour": "red"})")),
-            "body.colour: unknown field (known fields: spheres, meshes, blend, description)");
+            "body.colour: unknown field (known fields: spheres, meshes, blend, description, "
+            "mesh_distance, grid_spacing, grid_band)");
   EXPECT_EQ(Error(json::parse(R"({"spheres": [{"center": [0, 0, 0], "radius": 1, "r": 2}]})")),
             "body.spheres[0].r: unknown field (known fields: name, center, radius)");
   EXPECT_EQ(Error(json::parse(R"({"spheres": [{"radius": 1}]})")),
@@ -126,7 +127,7 @@ TEST(BodyJson, MeshPathsAreRelativeToTheBaseDirectory) {
   std::filesystem::create_directory(dir.path() + "/meshes");
   dir.Write("meshes/box.obj", kBoxObj);
   const json document = json::parse(R"({"meshes": [{"obj": "meshes/box.obj"}],
-    "spheres": [{"name": "head", "center": [3, 0, 0], "radius": 0.5}]})");
+    "mesh_distance": "exact", "spheres": [{"name": "head", "center": [3, 0, 0], "radius": 0.5}]})");
   Body body;
   std::string error;
   ASSERT_TRUE(ParseBody(document, "body", dir.path(), &body, &error)) << error;

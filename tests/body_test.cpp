@@ -13,6 +13,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <utility>
@@ -751,18 +752,34 @@ TEST(Mannequin, MeshHasClosedComponentsAndTheHeadTopOnTheSurface) {
   // The head is the ellipsoid with semi-axes (0.08, 0.1, 0.1) m about the origin
   // (scripts/make_mannequin.py); the top (0, 0, 0.1) is on the ellipsoid, so within the
   // chordal error of the mesh (level-4 icosphere, edges ~ 8 mm: sagitta ~ e^2/(8R) < 0.1 mm).
+  // The file's body uses the distance grid (band 3 cm, error < 0.2 mm on the head: tests/
+  // distance_grid_test.cpp); the same meshes with exact queries give the far values too.
+  Body exact;
+  ASSERT_TRUE(ParseBody(
+      nlohmann::json::parse(R"({"meshes": [{"obj": "mannequin.obj"}], "mesh_distance": "exact"})"),
+      "", Examples() + "/bodies", &exact, &error))
+      << error;
+  ASSERT_NE(body.distance_grid(), nullptr);
+  for (const Body* b : {&exact, &body}) {
+    const double tolerance = b == &exact ? 2e-4 : 4e-4;
+    Vec3 g;
+    EXPECT_NEAR(b->SignedDistance(Vec3(0, 0, 0.1), &g), 0.0, tolerance);
+    EXPECT_GT(g.z(), 0.99);
+    // Inside the head, 2 cm below its top; the face (+y) at y = 0.1.
+    EXPECT_NEAR(b->SignedDistance(Vec3(0, 0, 0.08), nullptr), -0.02, tolerance);
+    EXPECT_NEAR(b->SignedDistance(Vec3(0, 0.12, 0), nullptr), 0.02, tolerance);
+    // The shoulders at x = +-0.15 are near z = -0.224.
+    EXPECT_NEAR(b->SignedDistance(Vec3(0.15, -0.01, -0.224), nullptr), 0.0, 2e-3);
+    EXPECT_NEAR(b->SignedDistance(Vec3(-0.15, -0.01, -0.224), nullptr), 0.0, 2e-3);
+  }
   Vec3 g;
-  EXPECT_NEAR(body.SignedDistance(Vec3(0, 0, 0.1), &g), 0.0, 2e-4);
-  EXPECT_NEAR(body.SignedDistance(Vec3(0, 0, 0.15), &g), 0.05, 2e-4);
+  EXPECT_NEAR(exact.SignedDistance(Vec3(0, 0, 0.15), &g), 0.05, 2e-4);
   EXPECT_GT(g.z(), 0.99);
-  // Inside the head, 2 cm below its top; the face (+y) at y = 0.1.
-  EXPECT_NEAR(body.SignedDistance(Vec3(0, 0, 0.08), nullptr), -0.02, 2e-4);
-  EXPECT_NEAR(body.SignedDistance(Vec3(0, 0.12, 0), nullptr), 0.02, 2e-4);
-  // The shoulders at x = +-0.15 are near z = -0.224.
-  EXPECT_NEAR(body.SignedDistance(Vec3(0.15, -0.01, -0.224), nullptr), 0.0, 2e-3);
-  EXPECT_NEAR(body.SignedDistance(Vec3(-0.15, -0.01, -0.224), nullptr), 0.0, 2e-3);
   // The neck is inside the union.
-  EXPECT_LT(body.SignedDistance(Vec3(0, -0.01, -0.15), nullptr), -0.04);
+  EXPECT_LT(exact.SignedDistance(Vec3(0, -0.01, -0.15), nullptr), -0.04);
+  // Beyond the band the grid is the clamp, a lower bound of |d| with its sign.
+  EXPECT_DOUBLE_EQ(body.SignedDistance(Vec3(0, 0, 0.15), nullptr), 0.03);
+  EXPECT_FLOAT_EQ(body.SignedDistance(Vec3(0, -0.01, -0.15), nullptr), -0.03);
 }
 
 }  // namespace

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -162,6 +164,35 @@ class TriangleMesh {
 /// 1-based as in the file); on failure *meshes is untouched. Never throws.
 bool LoadObjMeshes(const std::string& path, std::vector<TriangleMesh>* meshes, std::string* error);
 
+namespace internal {
+class DistanceGrid;
+}  // namespace internal
+
+/// How a Body evaluates the signed distance of its meshes (docs/body.md, "Distance grid").
+struct MeshDistanceOptions {
+  enum class Mode : std::uint8_t {
+    /// Closest-point queries on the meshes' trees at every call: exact, ~1 us, gradient kinks
+    /// on the faceted surface.
+    kExact,
+    /// A grid of exact distances built once (Body::Create) and interpolated by a uniform tricubic
+    /// B-spline: C^2, ~0.1 us, within ~h^2/6 |Laplacian d| of the exact distance where
+    /// |d| < band - 2 h, clamped to +-band (a lower bound of |d|) beyond.
+    kGrid,
+  };
+  /// The mode; exact by default in the C++ API (body files default to the grid).
+  Mode mode = Mode::kExact;
+  /// Grid spacing h (m), finite, > 0 and >= 1e-4.
+  double spacing = 0.005;
+  /// Half-width of the exact band (m), finite and > 0: node values are clamped to [-band, band].
+  /// Must exceed the largest contact clearance plus half a segment for the contact broad phase
+  /// to skip segments.
+  double band = 0.03;
+  /// Threads building the grid; <= 0: all cores. The grid does not depend on it.
+  int threads = 0;
+  /// True if the options are usable; otherwise *why names the field ("spacing: ...").
+  bool IsValid(std::string* why) const;
+};
+
 /// The union of spheres and closed triangle meshes a strand may touch (paper, section 3.1: "the
 /// body is approximated by a set of spheres"). Immutable once created; queries are thread-safe.
 class Body final : public Obstacle {
@@ -183,8 +214,21 @@ class Body final : public Obstacle {
   /// stalls the line search. smin equals the exact minimum where the two distances differ by more
   /// than k, is below it by at most k/4 on the crease (so contact is felt a little early), and
   /// stays 1-Lipschitz (its gradient is a convex combination of unit vectors). 0 = exact minimum.
+  ///
+  /// mesh_distance chooses exact mesh queries or a distance grid of the meshes' (blended) union,
+  /// built here once (MeshDistanceOptions); spheres stay exact and are folded with it.
   static bool Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes, Body* body,
-                     std::string* error, double blend = 0.0);
+                     std::string* error, double blend = 0.0,
+                     const MeshDistanceOptions& mesh_distance = {});
+
+  /// The mesh distance options given to Create.
+  const MeshDistanceOptions& mesh_distance() const { return mesh_distance_; }
+  /// The distance grid of the meshes (null in exact mode or without meshes).
+  const internal::DistanceGrid* distance_grid() const { return grid_.get(); }
+  /// Seconds Body::Create spent building the grid (0 without one).
+  double grid_build_seconds() const { return grid_build_seconds_; }
+  /// Bytes of the grid's node values (0 without one).
+  std::size_t GridMemoryBytes() const;
 
   /// The crease-rounding radius given to Create (m).
   double blend() const { return blend_; }
@@ -195,7 +239,11 @@ class Body final : public Obstacle {
   /// push-out direction is that of the deepest component). It is 1-Lipschitz (a minimum of
   /// 1-Lipschitz functions). The gradient is that of the minimizing component (the first one in
   /// sphere-then-mesh order on ties). Spheres cost one square root each and no allocation;
-  /// meshes are skipped when x is farther from their box than the best distance so far.
+  /// meshes are skipped when x is farther from their box than the best distance so far. With a
+  /// distance grid (MeshDistanceOptions::kGrid) the meshes' part is the grid's B-spline: within
+  /// the grid spacing h of the exact value near the surface (measured 0.9 mm on the mannequin at
+  /// h = 5 mm), clamped to +-band beyond, each partial derivative bounded by 1 (measured
+  /// |gradient| <= 1.006), C^2; one grid query (~65 ns) replaces the tree queries.
   double SignedDistance(const Vec3& x, Vec3* gradient) const override;
 
   /// SignedDistance with its exact Hessian (1/m): (I - n n^T)/|x - c| for a sphere, the mesh's
@@ -222,6 +270,10 @@ class Body final : public Obstacle {
   std::vector<TriangleMesh> meshes_;
   Box3 bounds_;
   double blend_ = 0.0;
+  MeshDistanceOptions mesh_distance_;
+  // Shared between copies of the body: immutable once built.
+  std::shared_ptr<const internal::DistanceGrid> grid_;
+  double grid_build_seconds_ = 0.0;
 };
 
 }  // namespace ringlet

@@ -14,9 +14,16 @@ namespace ringlet {
 /// meet; strands float at most blend/4 = 1.25 mm above those seams.
 inline constexpr double kDefaultBodyBlend = 0.005;
 
+/// Mesh distance of bodies read from JSON: a distance grid ("mesh_distance": "grid", the
+/// default; "exact" for tree queries) of spacing "grid_spacing" (m) clamped at "grid_band" (m),
+/// MeshDistanceOptions. The spacing was chosen by measurement (docs/benchmarks.md, "Mesh bodies").
+inline constexpr double kDefaultGridSpacing = 0.005;
+inline constexpr double kDefaultGridBand = 0.03;
+
 /// Builds a body from a JSON object
 ///   {"spheres": [{"name": "head", "center": [0, 0, 0], "radius": 0.1}, ...],
-///    "meshes": [{"obj": "mannequin.obj"}, ...], "blend": 0.005, "description": "..."}
+///    "meshes": [{"obj": "mannequin.obj"}, ...], "blend": 0.005, "description": "...",
+///    "mesh_distance": "grid", "grid_spacing": 0.005, "grid_band": 0.03}
 /// where every field is optional but the body needs at least one sphere or mesh: centres in m
 /// (3 finite numbers), radii in m (finite, > 0), names unique among the spheres, OBJ paths
 /// relative to base_directory (absolute paths are kept; LoadObjMeshes reads them, one closed

@@ -1,6 +1,7 @@
 // The body: a union of spheres and closed meshes, queried by the contact energy (docs/body.md).
 #include "ringlet/body.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -10,8 +11,13 @@
 #include <utility>
 #include <vector>
 
+#include "body/distance_grid.h"
+
 namespace ringlet {
 namespace {
+
+// Largest distance grid Body::Create builds: 4 bytes per node, 256 MB.
+constexpr double kMaxGridNodes = 64e6;
 
 // A number as quoted in messages: the shortest %g form that reads back exactly (-0.1, not
 // -0.10000000000000001).
@@ -26,10 +32,51 @@ std::string NumberText(double x) {
 
 }  // namespace
 
+namespace {
+
+// Folds a component's signed distance d (gradient g) into the running smooth minimum (best,
+// best_gradient) with the quadratic smooth minimum of width k (Body::Create).
+inline void SmoothFold(double d, const Vec3& g, double k, double* best, Vec3* best_gradient) {
+  if (d - *best >= k) return;
+  if (*best - d >= k) {
+    *best = d;
+    *best_gradient = g;
+    return;
+  }
+  const double h = 0.5 + 0.5 * (d - *best) / k;  // weight of the running minimum
+  *best = d + h * (*best - d) - k * h * (1.0 - h);
+  *best_gradient = h * *best_gradient + (1.0 - h) * g;
+}
+
+}  // namespace
+
+bool MeshDistanceOptions::IsValid(std::string* why) const {
+  if (mode != Mode::kExact && mode != Mode::kGrid) {
+    if (why) *why = "mode: expected exact or grid";
+    return false;
+  }
+  if (!(std::isfinite(spacing) && spacing >= 1e-4)) {
+    if (why) *why = "spacing: expected a finite number >= 0.0001 (m), got " + NumberText(spacing);
+    return false;
+  }
+  if (!(std::isfinite(band) && band > 0.0)) {
+    if (why) *why = "band: expected a finite number > 0 (m), got " + NumberText(band);
+    return false;
+  }
+  return true;
+}
+
+std::size_t Body::GridMemoryBytes() const { return grid_ ? grid_->MemoryBytes() : 0; }
+
 bool Body::Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes, Body* body,
-                  std::string* error, double blend) {
+                  std::string* error, double blend, const MeshDistanceOptions& mesh_distance) {
   if (!(std::isfinite(blend) && blend >= 0.0)) {
     if (error) *error = "blend: expected a finite number >= 0 (m)";
+    return false;
+  }
+  std::string why;
+  if (!mesh_distance.IsValid(&why)) {
+    if (error) *error = "mesh_distance." + why;
     return false;
   }
   std::set<std::string> names;
@@ -69,27 +116,54 @@ bool Body::Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes,
   result.spheres_ = std::move(spheres);
   result.meshes_ = std::move(meshes);
   result.blend_ = blend;
+  result.mesh_distance_ = mesh_distance;
+  if (mesh_distance.mode == MeshDistanceOptions::Mode::kGrid && !result.meshes_.empty()) {
+    // The grid samples the meshes' union alone (the same fold as the exact queries); spheres
+    // stay exact and are folded with the grid's value at query time.
+    Box3 mesh_box;
+    for (const TriangleMesh& m : result.meshes_) mesh_box.extend(m.bounds());
+    const std::vector<TriangleMesh>& all = result.meshes_;
+    const auto exact = [&all, blend](const Vec3& x) {
+      double best = std::numeric_limits<double>::infinity();
+      Vec3 best_gradient = Vec3::UnitZ();
+      for (const TriangleMesh& m : all) {
+        const double box_distance = std::sqrt(m.bounds().squaredExteriorDistance(x));
+        if (box_distance > 0.0 && box_distance >= best + blend) continue;
+        Vec3 g = Vec3::UnitZ();
+        const double d = m.SignedDistance(x, &g);
+        if (blend > 0.0) {
+          SmoothFold(d, g, blend, &best, &best_gradient);
+        } else {
+          best = std::min(best, d);
+        }
+      }
+      return best;
+    };
+    // Memory guard: the node count of the box enlarged by band + 3 h at this spacing.
+    const Vec3 nodes =
+        ((mesh_box.sizes().array() + 2.0 * (mesh_distance.band + 3.0 * mesh_distance.spacing)) /
+             mesh_distance.spacing +
+         2.0)
+            .matrix();
+    if (nodes.prod() > kMaxGridNodes) {
+      if (error) {
+        *error = "mesh_distance.spacing: " + NumberText(mesh_distance.spacing) + " m gives " +
+                 NumberText(std::round(nodes.prod() / 1e6)) +
+                 " million grid nodes over the meshes' box (at most " +
+                 NumberText(kMaxGridNodes / 1e6) +
+                 " million): use a coarser spacing or exact queries";
+      }
+      return false;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    result.grid_ = std::make_shared<const internal::DistanceGrid>(internal::DistanceGrid::Build(
+        exact, mesh_box, mesh_distance.spacing, mesh_distance.band, mesh_distance.threads));
+    result.grid_build_seconds_ =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
   *body = std::move(result);
   return true;
 }
-
-namespace {
-
-// Folds a component's signed distance d (gradient g) into the running smooth minimum (best,
-// best_gradient) with the quadratic smooth minimum of width k (Body::Create).
-inline void SmoothFold(double d, const Vec3& g, double k, double* best, Vec3* best_gradient) {
-  if (d - *best >= k) return;
-  if (*best - d >= k) {
-    *best = d;
-    *best_gradient = g;
-    return;
-  }
-  const double h = 0.5 + 0.5 * (d - *best) / k;  // weight of the running minimum
-  *best = d + h * (*best - d) - k * h * (1.0 - h);
-  *best_gradient = h * *best_gradient + (1.0 - h) * g;
-}
-
-}  // namespace
 
 double Body::SignedDistance(const Vec3& x, Vec3* gradient) const {
   if (blend_ > 0.0) {
@@ -105,12 +179,18 @@ double Body::SignedDistance(const Vec3& x, Vec3* gradient) const {
       SmoothFold(norm - s(3), norm > 0.0 ? Vec3(r / norm) : Vec3::UnitZ(), blend_, &best,
                  &best_gradient);
     }
-    for (const TriangleMesh& m : meshes_) {
-      const double box_distance = std::sqrt(m.bounds().squaredExteriorDistance(x));
-      if (box_distance > 0.0 && box_distance >= best + blend_) continue;
-      Vec3 g = Vec3::UnitZ();
-      const double d = m.SignedDistance(x, &g);
+    if (grid_) {
+      Vec3 g;
+      const double d = grid_->Evaluate(x, &g, nullptr);
       SmoothFold(d, g, blend_, &best, &best_gradient);
+    } else {
+      for (const TriangleMesh& m : meshes_) {
+        const double box_distance = std::sqrt(m.bounds().squaredExteriorDistance(x));
+        if (box_distance > 0.0 && box_distance >= best + blend_) continue;
+        Vec3 g = Vec3::UnitZ();
+        const double d = m.SignedDistance(x, &g);
+        SmoothFold(d, g, blend_, &best, &best_gradient);
+      }
     }
     if (gradient) *gradient = best_gradient;
     return best;
@@ -132,7 +212,16 @@ double Body::SignedDistance(const Vec3& x, Vec3* gradient) const {
   // distance to the box is then a lower bound of the mesh's signed distance).
   int best_mesh = -1;
   Vec3 mesh_gradient = Vec3::UnitZ();
-  for (size_t m = 0; m < meshes_.size(); ++m) {
+  if (grid_) {
+    Vec3 g;
+    const double d = grid_->Evaluate(x, gradient ? &g : nullptr, nullptr);
+    if (d < best) {
+      best = d;
+      best_mesh = 0;
+      if (gradient) mesh_gradient = g;
+    }
+  }
+  for (size_t m = 0; !grid_ && m < meshes_.size(); ++m) {
     const double box_distance = std::sqrt(meshes_[m].bounds().squaredExteriorDistance(x));
     if (box_distance > 0.0 && box_distance >= best) continue;
     Vec3 g;
@@ -202,7 +291,14 @@ double Body::SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian)
       SmoothFoldHessian(norm - s(3), norm > 0.0 ? Vec3(r / norm) : Vec3::UnitZ(),
                         SphereHessian(r, norm), blend_, &best, &best_gradient, &best_hessian);
     }
-    for (const TriangleMesh& m : meshes_) {
+    if (grid_) {
+      Vec3 g;
+      Mat3 hm;
+      const double d = grid_->Evaluate(x, &g, &hm);
+      SmoothFoldHessian(d, g, hm, blend_, &best, &best_gradient, &best_hessian);
+    }
+    for (size_t i = 0; !grid_ && i < meshes_.size(); ++i) {
+      const TriangleMesh& m = meshes_[i];
       const double box_distance = std::sqrt(m.bounds().squaredExteriorDistance(x));
       if (box_distance > 0.0 && box_distance >= best + blend_) continue;
       Vec3 g = Vec3::UnitZ();
@@ -227,7 +323,18 @@ double Body::SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian)
       best_gradient = norm > 0.0 ? Vec3(r / norm) : Vec3::UnitZ();
       best_hessian = SphereHessian(r, norm);
     }
-    for (const TriangleMesh& m : meshes_) {
+    if (grid_) {
+      Vec3 g;
+      Mat3 hm;
+      const double d = grid_->Evaluate(x, &g, &hm);
+      if (d < best) {
+        best = d;
+        best_gradient = g;
+        best_hessian = hm;
+      }
+    }
+    for (size_t i = 0; !grid_ && i < meshes_.size(); ++i) {
+      const TriangleMesh& m = meshes_[i];
       const double box_distance = std::sqrt(m.bounds().squaredExteriorDistance(x));
       if (box_distance > 0.0 && box_distance >= best) continue;
       Vec3 g;

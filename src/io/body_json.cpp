@@ -12,6 +12,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -91,8 +92,36 @@ bool ParseBodyObject(Reader& reader, const json& document, const std::string& pa
                      const std::string& base_directory, Body* out) {
   const char* expected = "an object {\"spheres\": [...], \"meshes\": [...]}";
   if (!document.is_object()) return reader.Expected(path, expected, document);
-  if (!reader.CheckFields(document, path, {"spheres", "meshes", "blend", "description"})) {
+  if (!reader.CheckFields(document, path,
+                          {"spheres", "meshes", "blend", "description", "mesh_distance",
+                           "grid_spacing", "grid_band"})) {
     return false;
+  }
+  MeshDistanceOptions mesh_distance;
+  mesh_distance.mode = MeshDistanceOptions::Mode::kGrid;
+  mesh_distance.spacing = kDefaultGridSpacing;
+  mesh_distance.band = kDefaultGridBand;
+  const auto mode_it = document.find("mesh_distance");
+  if (mode_it != document.end()) {
+    if (*mode_it == "exact") {
+      mesh_distance.mode = MeshDistanceOptions::Mode::kExact;
+    } else if (*mode_it != "grid") {
+      return reader.Expected(Member(path, "mesh_distance"), "\"grid\" or \"exact\"", *mode_it);
+    }
+  }
+  for (const auto& [key, target, what] :
+       {std::tuple<const char*, double*, const char*>{"grid_spacing", &mesh_distance.spacing,
+                                                      "a finite number >= 0.0001 (m)"},
+        std::tuple<const char*, double*, const char*>{"grid_band", &mesh_distance.band,
+                                                      "a finite number > 0 (m)"}}) {
+    const auto it = document.find(key);
+    if (it == document.end()) continue;
+    const double minimum = target == &mesh_distance.spacing ? 1e-4 : 0.0;
+    if (!it->is_number() || !std::isfinite(it->get<double>()) || !(it->get<double>() >= minimum) ||
+        !(it->get<double>() > 0.0)) {
+      return reader.Expected(Member(path, key), what, *it);
+    }
+    *target = it->get<double>();
   }
   double blend = kDefaultBodyBlend;
   const auto blend_it = document.find("blend");
@@ -155,7 +184,7 @@ bool ParseBodyObject(Reader& reader, const json& document, const std::string& pa
   }
   std::string why;
   Body body;
-  if (!Body::Create(std::move(spheres), std::move(meshes), &body, &why, blend)) {
+  if (!Body::Create(std::move(spheres), std::move(meshes), &body, &why, blend, mesh_distance)) {
     // Safety net: the field checks above should have caught everything.
     return reader.Fail(path, why);
   }
