@@ -191,8 +191,10 @@ TEST(BodyJson, ObjLinesAreValidatedWithTheLineNumber) {
   dir.Write("fancy.obj", fancy);
   Body body;
   std::string error;
-  EXPECT_TRUE(ParseBody(json::parse(R"({"meshes": [{"obj": "fancy.obj"}]})"), "body", dir.path(),
-                        &body, &error))
+  // (a 2-m box: exact queries, the default 5-mm grid would need 74 million nodes)
+  EXPECT_TRUE(ParseBody(json::parse(R"({"meshes": [{"obj": "fancy.obj"}],
+                                        "mesh_distance": "exact"})"),
+                        "body", dir.path(), &body, &error))
       << error;
 }
 
