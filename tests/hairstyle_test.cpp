@@ -561,8 +561,9 @@ namespace {
 
 // Every strand a solved rod (issue 11, Hairstyle::solve_children): each child is an equilibrium
 // of its own (converged, certified stable, residual below tolerance when re-checked here by an
-// independent solve from its result), keeps its root and its drawn length, differs from the
-// procedural child, and the groom is bit-identical on 1 and 2 threads.
+// independent solve from its result), keeps its root, is as long as the wisp made it (the
+// master's length times the child's fraction, tested against AppendWisp in wisp_test), differs
+// from the procedural child, and the groom is bit-identical on 1 and 2 threads.
 TEST(GroomHairstyle, SolvedChildrenAreCertifiedEquilibria) {
   Hairstyle style = SmallStyle(12);
   const Groom procedural = MustGroom(style);
@@ -579,12 +580,16 @@ TEST(GroomHairstyle, SolvedChildrenAreCertifiedEquilibria) {
   double moved = 0.0;
   for (int k = 0; k < solved.strands.NumStrands(); ++k) {
     const size_t a = static_cast<size_t>(k) * count;
-    // Same root; the rod's length is the procedural child's polyline length lp, so the 11 chords
-    // inscribed in it are never longer than lp and, on these wavy curls, shorter by a few %.
+    // Same root; the rod's length is lp = L_master (L_k / L), so the chords inscribed in it are
+    // never longer than lp and, on these wavy curls, shorter by a few %.
     EXPECT_EQ(solved.strands.points[a], procedural.strands.points[a]);
-    double lp = 0.0, ls = 0.0;
+    const int wisp = k / n, child = k % n;
+    const std::vector<double> fractions = WispLengthFractions(
+        procedural.masters.wisp_options, WispSeed(style.seed, static_cast<std::uint64_t>(wisp)));
+    const double lp = procedural.masters.models[static_cast<size_t>(wisp)].Length() *
+                      fractions[static_cast<size_t>(child)];
+    double ls = 0.0;
     for (int p = 1; p < count; ++p) {
-      lp += (procedural.strands.points[a + p] - procedural.strands.points[a + p - 1]).norm();
       ls += (solved.strands.points[a + p] - solved.strands.points[a + p - 1]).norm();
       moved = std::max<double>(
           moved, (solved.strands.points[a + p] - procedural.strands.points[a + p]).norm());

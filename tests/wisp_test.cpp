@@ -266,6 +266,37 @@ TEST(Wisp, LengthsWithinTheVariationBounds) {
   EXPECT_GT(max_fraction, 0.99);
 }
 
+// WispLengthFractions replays AppendWisp's draws: with radius 0 every child lies on the master
+// and its tip sits at arc length L_k, measured independently on the master polyline.
+TEST(WispLengthFractions, MatchTheStrandsAppendWispDraws) {
+  const FramedCentreline master = Master(0.25, 20, 4, Vec3(30.0, 5.0, 10.0));
+  for (const bool include_master : {false, true}) {
+    WispOptions o;
+    o.strands_per_wisp = 50;
+    o.points_per_strand = 16;
+    o.length_variation = 0.4;
+    o.jitter = 0.0;
+    o.include_master = include_master;
+    HairCurves h;
+    AppendWisp(master, SectionFromEccentricity(kFibreRadius, 0.0), 0.0, o, 77, nullptr, &h);
+    const std::vector<double> fractions = WispLengthFractions(o, 77);
+    ASSERT_EQ(fractions.size(), 50u);
+    double smallest = 1.0;
+    for (int k = 0; k < o.strands_per_wisp; ++k) {
+      const double measured =
+          ArcLengthOnMaster(master, Point(h, k, o.points_per_strand - 1, o.points_per_strand)) /
+          master.Length();
+      // Float points on a 25-cm strand: ~1e-7 relative.
+      EXPECT_NEAR(fractions[static_cast<size_t>(k)], measured, 1e-6) << "strand " << k;
+      smallest = std::min(smallest, fractions[static_cast<size_t>(k)]);
+    }
+    if (include_master) {
+      EXPECT_EQ(fractions[0], 1.0);
+    }
+    EXPECT_LT(smallest, 0.7);  // not vacuous: the variation is used
+  }
+}
+
 // Root offsets rho / r_w of N children (the master frame at the root is n1, n2).
 std::vector<Vec3> RootOffsets(double distance_exponent, int n, std::uint64_t seed) {
   const FramedCentreline master = Master(0.1, 5, 2, Vec3::Zero());

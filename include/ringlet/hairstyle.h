@@ -75,9 +75,10 @@ struct Hairstyle {
   bool spread_roots = true;
   /// Every strand a solved rod (issue 11): when true, each child strand of the wisps is itself
   /// solved as a Kirchhoff rod (its own root on the scalp, the master's root frame, section,
-  /// material, natural curl and segment count; length the child's drawn length; body contact
-  /// with the clearance of one fibre plus its hull layer's offset), warm-started from its
-  /// master's equilibrium and certified like the masters (SolveChildren). File key:
+  /// material, natural curl and segment count; length the master's times the child's length
+  /// fraction, WispLengthFractions; body contact with the clearance of one fibre plus its hull
+  /// layer's offset), warm-started from its master's equilibrium and certified like the masters
+  /// (SolveChildren). File key:
   /// "wisps": {"children": "solved"} (default "procedural").
   bool solve_children = false;
   /// Centreline samples per master segment handed to the wisp generator (>= 1).
@@ -148,15 +149,22 @@ struct Groom {
 bool GroomHairstyle(const Hairstyle& style, const BatchOptions& batch, Groom* groom,
                     std::string* why);
 
+/// With the solver's method "auto", a solved child (Hairstyle::solve_children) whose load
+/// w L^3 / (E I1) is at least this is solved by Newton from its master's equilibrium, a lighter
+/// one by L-BFGS: the crossover measured on the example heads (docs/benchmarks.md, "Every strand
+/// a solved rod"). Masters keep kAutoNewtonLoad (statics.h): they start from the natural shape.
+inline constexpr double kChildNewtonLoad = 30.0;
+
 /// Replaces every child strand of strands (GrowWisps' output: wisp i holds strands i N .. i N +
 /// N - 1, the first being the master itself when include_master) by a solved rod: root at the
 /// child's first point, the master's root frame, section, material and natural curvature, the
-/// child's polyline length divided into the master's segment count (graded as the master), body
-/// contact with clearance = fibre radius + the master's hull-layer offset, warm-started from
+/// master's length times the child's length fraction (WispLengthFractions; not the drawn
+/// polyline, which winds around curly masters) divided into the master's segment count (graded
+/// as the master), body contact with clearance = fibre radius + the master's hull-layer offset, warm-started from
 /// the master's curvatures, solved with style.solver in parallel (the certificate included) and
 /// sampled exactly at the child's point count, equally spaced in arc length (major axes from its
 /// own material frame). Counts go to summary's children_* fields. Deterministic on any thread
-/// count. Returns false only for inconsistent input.
+/// count. Returns false only for inconsistent input. The method per child: kChildNewtonLoad.
 bool SolveChildren(const Hairstyle& style, const HairstyleMasters& masters,
                    const std::vector<StrandSolution>& solutions, const BatchOptions& batch,
                    HairCurves* strands, GroomSummary* summary, std::string* why);

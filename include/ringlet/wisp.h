@@ -124,6 +124,11 @@ void AppendWisp(const FramedCentreline& master, const CrossSection& section, dou
 double ResolveWispRadius(const FramedCentreline& master, const CrossSection& section,
                          const WispOptions& options);
 
+/// The length of each strand of a wisp relative to its master's, L_k / L in (0, 1] (1 for the
+/// master itself when include_master): the fractions AppendWisp draws from the stream seeded
+/// with seed, replayed without building the strands. Options must be valid.
+std::vector<double> WispLengthFractions(const WispOptions& options, std::uint64_t seed);
+
 /// The random-stream seed of wisp `index` for a head seeded with `seed`: a SplitMix64 hash of
 /// both, so each wisp's strands depend only on (seed, index).
 std::uint64_t WispSeed(std::uint64_t seed, std::uint64_t index);

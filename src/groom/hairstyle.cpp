@@ -217,14 +217,15 @@ bool SolveChildren(const Hairstyle& style, const HairstyleMasters& masters,
   for (size_t i = 0; i < masters_count; ++i) {
     const StrandModel& master = masters.models[i];
     const double ratio = master.segment_lengths.back() / master.segment_lengths.front();
+    // A child is as long as the wisp made it, L_k = (L_k / L) L: not its drawn polyline, which
+    // winds around a curly master and is up to 3x longer (the African head's outer fibres).
+    const std::vector<double> fractions =
+        WispLengthFractions(masters.wisp_options, WispSeed(style.seed, i));
     for (int c = 0; c < per_wisp; ++c) {
       if (c == 0 && masters.wisp_options.include_master) continue;
       const int k = static_cast<int>(i) * per_wisp + c;
-      const size_t a = first[static_cast<size_t>(k)], b = first[static_cast<size_t>(k) + 1];
-      double length = 0.0;
-      for (size_t p = a + 1; p < b; ++p) {
-        length += (strands->points[p] - strands->points[p - 1]).cast<double>().norm();
-      }
+      const size_t a = first[static_cast<size_t>(k)];
+      const double length = master.Length() * fractions[static_cast<size_t>(c)];
       if (!(length > 0.0)) continue;  // a degenerate child keeps its procedural shape
       StrandModel m = master;
       m.root_position = strands->points[a].cast<double>();
@@ -236,7 +237,47 @@ bool SolveChildren(const Hairstyle& style, const HairstyleMasters& masters,
       strand_of.push_back(k);
     }
   }
-  const std::vector<StrandSolution> children = SolveStrands(models, style.solver, batch, &warm);
+  // The method of each child. A child starts next to its master's equilibrium, where Newton with
+  // the exact Hessian needs ~10 steps against ~30 for L-BFGS: 2.5x less CPU on the straight,
+  // wavy and curly heads (loads 44-394), but 1.3x more on the light African strands (loads 6-25)
+  // (docs/benchmarks.md, "Every strand a solved rod"). So with "auto" a child from load
+  // kChildNewtonLoad on is solved by Newton; an explicit method is used as given.
+  std::vector<StrandSolution> children(models.size());
+  {
+    std::vector<int> group[2];  // [0]: the file's method (or L-BFGS), [1]: Newton
+    for (size_t c = 0; c < models.size(); ++c) {
+      const bool newton = style.solver.method == Method::kAuto &&
+                          models[c].GravityParameter() >= kChildNewtonLoad;
+      group[newton ? 1 : 0].push_back(static_cast<int>(c));
+    }
+    int reported = 0;
+    for (int k = 0; k < 2; ++k) {
+      if (group[k].empty()) continue;
+      std::vector<StrandModel> part_models;
+      std::vector<VecX> part_warm;
+      for (const int c : group[k]) {
+        part_models.push_back(std::move(models[static_cast<size_t>(c)]));
+        part_warm.push_back(std::move(warm[static_cast<size_t>(c)]));
+      }
+      SolveOptions options = style.solver;
+      if (k == 1) options.method = Method::kNewton;
+      // One progress bar over both groups.
+      BatchOptions part_batch = batch;
+      const int offset = reported, total = static_cast<int>(models.size());
+      if (batch.progress) {
+        part_batch.progress = [&batch, offset, total](int finished, int) {
+          batch.progress(offset + finished, total);
+        };
+      }
+      std::vector<StrandSolution> solved = SolveStrands(part_models, options, part_batch, &part_warm);
+      for (size_t j = 0; j < group[k].size(); ++j) {
+        const size_t c = static_cast<size_t>(group[k][j]);
+        models[c] = std::move(part_models[j]);
+        children[c] = std::move(solved[j]);
+      }
+      reported += static_cast<int>(group[k].size());
+    }
+  }
 
   // Resample each solved child at its own point count, equally spaced in arc length.
   for (size_t c = 0; c < children.size(); ++c) {

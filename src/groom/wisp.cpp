@@ -314,6 +314,17 @@ double ResolveWispRadius(const FramedCentreline& master, const CrossSection& sec
                     options.packing_fraction);
 }
 
+std::vector<double> WispLengthFractions(const WispOptions& options, std::uint64_t seed) {
+  // The same draws as WriteWisp, in the same order.
+  SplitMix64 rng(seed);
+  std::vector<double> fractions(static_cast<size_t>(options.strands_per_wisp), 1.0);
+  for (int k = 0; k < options.strands_per_wisp; ++k) {
+    if (options.include_master && k == 0) continue;
+    fractions[static_cast<size_t>(k)] = DrawChild(options, &rng).length_fraction;
+  }
+  return fractions;
+}
+
 std::uint64_t WispSeed(std::uint64_t seed, std::uint64_t index) {
   // Two rounds of the SplitMix64 finalizer so nearby (seed, index) pairs give unrelated streams.
   return SplitMix64::Mix(SplitMix64::Mix(seed) ^ (index + 0x9e3779b97f4a7c15ULL * (index + 1)));
