@@ -108,7 +108,11 @@ class Lexer {
     SkipBlanksAndComments();
     Token t;
     t.line = line_;
-    if (pos_ >= text_.size()) return t;
+    if (pos_ >= text_.size()) {
+      // The end of the file is on its last line, not on the empty one after a final newline.
+      if (t.line > 1 && !text_.empty() && text_.back() == '\n') --t.line;
+      return t;
+    }
     const char c = text_[pos_];
     const size_t start = pos_;
     if (IsIdentStart(c)) {
