@@ -20,8 +20,8 @@
 namespace ringlet {
 
 /// The largest target file read, whatever its format: 1 GiB (as kMaxHairFileBytes). Reading
-/// holds the bytes and the curves: about 2x the file for the binary formats, about 1.5x for the
-/// text formats (a point takes >= 3 bytes of text per coordinate and 16 bytes in HairCurves).
+/// holds the bytes and the curves: about 2x the file for the binary formats, about 3x for the
+/// text formats (measured: docs/robustness.md).
 inline constexpr std::uint64_t kMaxStrandTargetFileBytes = std::uint64_t{1} << 30;
 /// The largest coordinate accepted, after conversion to metres: |x| <= 10^4 m (the renderer's
 /// kMaxSceneCoordinate; a target farther away is a unit mistake, and squares of such lengths
