@@ -47,6 +47,9 @@ bool GroomWithProgress(const Hairstyle& style, int threads, bool quiet, Groom* g
 /// `ringlet style HAIRSTYLE.json --wet --cut-z Z ... -o OUTDIR/`: styling operations on a groom.
 Command AddStyleCommand(CLI::App* parent);
 
+/// `ringlet invert TARGET -o OUTDIR/`: rest shapes that hold target strands (inverse statics).
+Command AddInvertCommand(CLI::App* parent);
+
 /// Prints "ringlet: <kind>: <message>" as exactly one line on stderr: control characters in the
 /// message (a newline in a file name, say) are shown as '?'.
 inline void PrintDiagnostic(const char* kind, const std::string& message) {
