@@ -26,6 +26,7 @@
 #include "outputs.h"
 #include "ringlet/body.h"
 #include "ringlet/body_json.h"
+#include "ringlet/cross_section.h"
 #include "ringlet/hair_file.h"
 #include "ringlet/hair_type.h"
 #include "ringlet/inverse.h"
@@ -63,7 +64,11 @@ std::string Lower(std::string s) {
 // strand i, SampleStrand with seed 1), or the paper's defaults (50 um circular, E = 10 GPa,
 // rho = 1300 kg/m^3, straight).
 bool MaterialOf(const InvertArgs& args, int index, StrandModel* model, std::string* error) {
-  if (args.hair_type.empty()) return true;
+  if (args.hair_type.empty()) {
+    model->section = SectionFromEccentricity(kDefaultRadius, 0.0);
+    model->material = Material{};
+    return true;
+  }
   const size_t slash = args.hair_type.find('/');
   const std::string origin = args.hair_type.substr(0, slash);
   const std::string curl = slash == std::string::npos ? "" : args.hair_type.substr(slash + 1);
