@@ -266,7 +266,9 @@ bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection&
     // elastic response about the rest shape moves with it).
     // A curl replaces the rest shape: a per-segment one (inverse statics) is dropped.
     VecX q = state->solutions[i].curvatures;
-    for (int k = 0; k < m.NumSegments(); ++k) q.segment<3>(3 * k) += natural - m.NaturalCurvature(k);
+    for (int k = 0; k < m.NumSegments(); ++k) {
+      q.segment<3>(3 * k) += natural - m.NaturalCurvature(k);
+    }
     m.natural_curvature = natural;
     m.rest_curvatures.resize(0);
     // The wisp thickness follows the curliness (BuildMasters), from the dry fibre radius.
@@ -460,7 +462,9 @@ StrandModel TruncateModel(const StrandModel& model, double arc_length, VecX* cur
   }
   if (out.segment_lengths.empty()) out.segment_lengths.push_back(arc_length);
   // A per-segment rest shape keeps the rest curvatures of the kept segments, the cut one's too.
-  if (model.HasRestShape()) out.rest_curvatures = model.rest_curvatures.head(3 * out.NumSegments());
+  if (model.HasRestShape()) {
+    out.rest_curvatures = model.rest_curvatures.head(3 * out.NumSegments());
+  }
   if (curvatures) {
     const VecX q = *curvatures;
     *curvatures = WarmStart(q, q, out.NumSegments());

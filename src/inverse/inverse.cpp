@@ -120,7 +120,9 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
          ", deviation " + Number(result.deviation / length) + " L";
     if (!result.stable) m += " (the closest stable equilibrium of the inverted rest shape)";
   }
-  if (options.naive) m += "; naive rest shape sags " + Number(result.naive_deviation / length) + " L";
+  if (options.naive) {
+    m += "; naive rest shape sags " + Number(result.naive_deviation / length) + " L";
+  }
   result.message = m;
   return result;
 }

@@ -56,7 +56,9 @@ bool ReadTriples(const json& strand, const std::string& path, const char* key, b
 
 bool ParseStrand(const json& strand, const std::string& path, ExactTarget* target,
                  std::string* why) {
-  if (!strand.is_object()) return Fail(why, path + ": expected a strand object, got " + Show(strand));
+  if (!strand.is_object()) {
+    return Fail(why, path + ": expected a strand object, got " + Show(strand));
+  }
   std::vector<Vec3> points, curvatures, rest;
   if (!ReadTriples(strand, path, "points", true, &points, why) ||
       !ReadTriples(strand, path, "curvatures", true, &curvatures, why) ||
@@ -69,7 +71,8 @@ bool ParseStrand(const json& strand, const std::string& path, ExactTarget* targe
                          std::to_string(kMaxSegments) + " triples, got " + std::to_string(n));
   }
   const auto lengths = strand.find("segment_lengths");
-  if (lengths == strand.end() || !lengths->is_array() || lengths->size() != static_cast<size_t>(n)) {
+  if (lengths == strand.end() || !lengths->is_array() ||
+      lengths->size() != static_cast<size_t>(n)) {
     return Fail(why, Member(path, "segment_lengths") + ": expected " + std::to_string(n) +
                          " numbers > 0 (m), one per curvature triple");
   }
@@ -100,7 +103,9 @@ bool ParseStrand(const json& strand, const std::string& path, ExactTarget* targe
   // onto the file's points (Kabsch).
   const std::vector<Vec3> local = SampleCentreline(model, q, k);
   Mat3 cross = Mat3::Zero();
-  for (size_t j = 1; j < points.size(); ++j) cross += local[j] * (points[j] - points[0]).transpose();
+  for (size_t j = 1; j < points.size(); ++j) {
+    cross += local[j] * (points[j] - points[0]).transpose();
+  }
   Eigen::JacobiSVD<Mat3> svd(cross, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const Mat3 u = svd.matrixU(), v = svd.matrixV();
   Mat3 d = Mat3::Identity();
@@ -134,7 +139,9 @@ bool ParseStrand(const json& strand, const std::string& path, ExactTarget* targe
   target->rest_curvatures.resize(0);
   if (!rest.empty()) {
     target->rest_curvatures.resize(3 * n);
-    for (int i = 0; i < n; ++i) target->rest_curvatures.segment<3>(3 * i) = rest[static_cast<size_t>(i)];
+    for (int i = 0; i < n; ++i) {
+      target->rest_curvatures.segment<3>(3 * i) = rest[static_cast<size_t>(i)];
+    }
   }
   return true;
 }

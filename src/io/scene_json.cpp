@@ -106,8 +106,8 @@ bool ParseRoot(Reader& reader, const json& strand, const std::string& strand_pat
 bool ParseRestCurvatures(Reader& reader, const json& strand, const std::string& path,
                          StrandModel* model) {
   const int n = model->NumSegments();
-  const std::string expected =
-      "an array of " + std::to_string(n) + " triples [kappa1, kappa2, tau] (1/metre), one per segment";
+  const std::string expected = "an array of " + std::to_string(n) +
+                               " triples [kappa1, kappa2, tau] (1/metre), one per segment";
   const json* rest = nullptr;
   if (!reader.ReadArray(strand, path, "rest_curvatures", expected.c_str(), &rest)) return false;
   if (!rest) return true;
