@@ -49,6 +49,8 @@ Command AddStyleCommand(CLI::App* parent);
 
 /// `ringlet convert IN OUT`: hair strands from .hair/.data/.usda/.obj to any of them.
 Command AddConvertCommand(CLI::App* parent);
+/// `ringlet invert TARGET -o OUTDIR/`: rest shapes that hold target strands (inverse statics).
+Command AddInvertCommand(CLI::App* parent);
 
 /// Prints "ringlet: <kind>: <message>" as exactly one line on stderr: control characters in the
 /// message (a newline in a file name, say) are shown as '?'.

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
       ringlet::cli::AddStyleCommand(&app),
       ringlet::cli::AddRenderCommand(&app),
       ringlet::cli::AddConvertCommand(&app),
+      ringlet::cli::AddInvertCommand(&app),
   };
 
   // CLI11 would report an unknown command word as "A subcommand is required": name it instead.

@@ -32,6 +32,8 @@ bool SameModel(const StrandModel& a, const StrandModel& b) {
          a.section.b == b.section.b && a.material.young_modulus == b.material.young_modulus &&
          a.material.poisson_ratio == b.material.poisson_ratio &&
          a.material.density == b.material.density && a.natural_curvature == b.natural_curvature &&
+         a.rest_curvatures.size() == b.rest_curvatures.size() &&
+         (a.rest_curvatures.size() == 0 || a.rest_curvatures == b.rest_curvatures) &&
          a.root_position == b.root_position && a.root_frame == b.root_frame &&
          a.gravity == b.gravity && a.contact.obstacle == b.contact.obstacle &&
          a.contact.clearance == b.contact.clearance && a.contact.stiffness == b.contact.stiffness &&

@@ -18,7 +18,8 @@ struct EnergyTerms {
 };
 
 /// Elastic energy (eq. 3) of piecewise-constant curvatures, exactly
-///   E_e = sum_i 1/2 l_i (Omega_i - Omega^0)^T K (Omega_i - Omega^0),  K = diag(E I1, E I2, mu J),
+///   E_e = sum_i 1/2 l_i (Omega_i - Omega^0_i)^T K (Omega_i - Omega^0_i),  K = diag(E I1, E I2, mu J),
+/// with Omega^0_i = model.NaturalCurvature(i) (the rest shape, constant by default),
 /// and, if gradient is not null, its gradient (J m), written (not added) into gradient (size 3n).
 double ElasticEnergy(const StrandModel& model, const VecX& curvatures, VecX* gradient);
 

@@ -7,17 +7,18 @@
 namespace ringlet {
 
 /// The dimensionless equilibrium residual of a configuration. The gradient of the energy with
-/// respect to segment i's curvatures is g_i = l_i K (Omega_i - Omega^0) - m_i, where m_i is the
+/// respect to segment i's curvatures is g_i = l_i K (Omega_i - Omega^0_i) - m_i, where m_i is the
 /// external moment integrated over the segment: g_i = 0 is Kirchhoff's moment balance averaged
 /// over the segment (with the moment-free tip built in). The residual is
-///   max_i |g_i| / (l_i M_ref),   M_ref = |f| L^2 / 2 + max_i |K (Omega_i - Omega^0)| + E I1 / L,
-/// the internal-moment mismatch relative to the largest moment in play (N m / N m).
+///   max_i |g_i| / (l_i M_ref),   M_ref = |f| L^2 / 2 + max_i |K (Omega_i - Omega^0_i)| + E I1 / L,
+/// with Omega^0_i = model.NaturalCurvature(i) (the rest shape): the internal-moment mismatch
+/// relative to the largest moment in play (N m / N m).
 double EquilibriumResidual(const StrandModel& model, const VecX& curvatures,
                            const VecX& gradient);
 
 /// Kirchhoff's moment balance averaged over each segment, evaluated directly from the geometry
 /// and independently of the energy gradient code: for segment i,
-///   b_i = l_i K (Omega_i - Omega^0) - int_segment Q(u)^T M(u) du   (J m, material coordinates),
+///   b_i = l_i K (Omega_i - Omega^0_i) - int_segment Q(u)^T M(u) du   (J m, material coordinates),
 /// where M(u) = int_u^L (r(s) - r(u)) x f ds = (T(u) - (L - u) r(u)) x f is the moment of the weight
 /// hanging below r(u) (internal force n(u) = (L - u) f balances the weight, n' + f = 0, and the
 /// free tip carries no force or moment, M(L) = 0). The integral uses 8-point Gauss-Legendre

@@ -20,6 +20,10 @@ struct StrandResult {
   VecX curvatures;
   /// Length of each segment, root to tip (m).
   std::vector<double> segment_lengths;
+  /// The model's per-segment rest shape (StrandModel::rest_curvatures, size 3n, 1/m), or empty
+  /// when the model has none (natural_curvature on every segment). Written as "rest_curvatures"
+  /// only when not empty.
+  VecX rest_curvatures;
   /// The solver's summary. termination is kNonFinite (and stable false) whenever any number
   /// above or in the summary is NaN or infinite.
   SolveSummary summary;

@@ -43,6 +43,13 @@ bool ParseSceneText(const std::string& text, Scene* scene, std::string* error);
 /// ("scene.json: strands[0].length: missing required field ..."). Never throws.
 bool LoadScene(const std::string& path, Scene* scene, std::string* error);
 
+/// The scene document of models (docs/scene-format.md) that ParseScene reads back to the same
+/// models up to rounding: per strand length, segment_lengths, radius, eccentricity, material,
+/// natural_curvature / natural_twist, rest_curvatures (when the model has one) and root
+/// (position, tangent t, normal n1); gravity from the first model (all must share it). Contact
+/// is not part of the scene format and is left out. Text, indented, ending with a newline.
+std::string SceneToString(const std::vector<StrandModel>& models);
+
 /// The name of a minimization method in scene files: "bfgs", "lbfgs", "newton" or "auto".
 const char* MethodName(Method method);
 

@@ -46,8 +46,16 @@ struct StrandModel {
   CrossSection section;
   /// Elastic constants and density.
   Material material;
-  /// Natural curvatures and twist (kappa1^0, kappa2^0, tau^0) in 1/m, the same on every segment.
+  /// Natural curvatures and twist (kappa1^0, kappa2^0, tau^0) in 1/m, the same on every segment
+  /// unless rest_curvatures is given: the hair type's natural curl (the paper's constant
+  /// Omega^0). Styling (grow) gives new segments this curvature.
   Vec3 natural_curvature = Vec3::Zero();
+  /// The rest shape per segment (issue 13: inverse statics): empty (the default) means
+  /// natural_curvature on every segment; otherwise size 3n with (kappa1^0, kappa2^0, tau^0) of
+  /// segment i at [3i, 3i + 3) (1/m). Every use of the natural curvature goes through
+  /// NaturalCurvature(i) / NaturalCurvatures(), so a vector filled with natural_curvature gives
+  /// bit for bit the same energies, gradients and solves as the empty one.
+  VecX rest_curvatures;
   /// Position of the root, r(0) (m).
   Vec3 root_position = Vec3::Zero();
   /// Material frame at the root, world_from_material: columns (n1, n2, t), a proper rotation.
@@ -65,8 +73,17 @@ struct StrandModel {
   Vec3 Stiffness() const;
   /// Weight per unit length f = rho S g (N/m), a vector along gravity.
   Vec3 WeightPerLength() const;
-  /// Natural curvatures of all segments, the 3n-vector (kappa1^0, kappa2^0, tau^0, ...) (1/m).
+  /// Natural curvatures of all segments, the 3n-vector (kappa1^0, kappa2^0, tau^0, ...) (1/m):
+  /// rest_curvatures when given, natural_curvature repeated otherwise.
   VecX NaturalCurvatures() const;
+  /// Natural curvatures (kappa1^0, kappa2^0, tau^0) of segment i (1/m): rest_curvatures' triple
+  /// i when given, natural_curvature otherwise.
+  Vec3 NaturalCurvature(int i) const {
+    return rest_curvatures.size() == 0 ? natural_curvature
+                                       : Vec3(rest_curvatures.segment<3>(3 * i));
+  }
+  /// Whether the rest shape varies per segment (rest_curvatures given).
+  bool HasRestShape() const { return rest_curvatures.size() != 0; }
   /// Dimensionless load |f| L^3 / (E I1): the ratio of weight to bending stiffness in the soft
   /// direction (Greenhill's self-buckling parameter; 7.8373 is the critical value).
   double GravityParameter() const;
@@ -112,7 +129,8 @@ bool RootFrameFromTangentNormal(const Vec3& tangent, const Vec3& normal, Mat3* f
 /// Largest segment count a model may have; more is almost certainly a mistake in the input.
 inline constexpr int kMaxSegments = 100000;
 
-/// Checks every field (finite, positive lengths, valid section and material, proper rotation, ...).
+/// Checks every field (finite, positive lengths, valid section and material, proper rotation,
+/// rest_curvatures of size 0 or 3n and finite, ...).
 bool IsValid(const StrandModel& model, std::string* why);
 
 }  // namespace ringlet

@@ -119,6 +119,8 @@ bool CheckCurlHelix(double radius, double pitch, std::string* field, std::string
 /// c = p / (2 pi)), as (-kappa, 0, tau) in the comb frame (BuildMasters' sign: the curl starts
 /// away from the head), updates their wisp radius (WispRadius with the new curliness, unless the
 /// hairstyle fixes it) and clearance, and re-solves them warm-started. R = +infinity straightens.
+/// A per-segment rest shape (StrandModel::rest_curvatures, inverse statics) is replaced: the
+/// curl sets every segment's rest curvature to the new helix.
 /// Rejects what CheckCurlHelix rejects and a bad selection.
 bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection& selection,
           const BatchOptions& batch, OperationReport* report, std::string* why);
@@ -181,8 +183,9 @@ double CutArcLength(const StrandModel& model, const VecX& curvatures, const CutR
                     int samples_per_segment = 8);
 
 /// The model truncated at arc length s in (0, L]: the segments beyond are dropped and the
-/// crossing segment is shortened (to s minus the kept segments' sum). `curvatures`, when not
-/// null, is truncated to the kept segments (the warm start).
+/// crossing segment is shortened (to s minus the kept segments' sum). A per-segment rest shape
+/// keeps the rest curvatures of the kept segments, the shortened one's included. `curvatures`,
+/// when not null, is truncated to the kept segments (the warm start).
 StrandModel TruncateModel(const StrandModel& model, double arc_length, VecX* curvatures = nullptr);
 
 /// Cut: each master whose equilibrium leaves the region is truncated where it first leaves it
@@ -201,7 +204,10 @@ bool CutBelow(StyledHair* state, double z, const CutOptions& options, const Batc
 /// appended, starting from the last segment's curvatures (the helix continued) so the grid stays
 /// as fine as the groom's. Where hair grows does not change the equilibrium (the natural
 /// curvature is uniform, so a strand of length L has the same energy however it came to be);
-/// the tip is where the warm start stays closest. `sequence`, when not null, receives the state
+/// the tip is where the warm start stays closest. With a per-segment rest shape
+/// (StrandModel::rest_curvatures) the lengthened last segment keeps its rest curvatures and the
+/// appended segments get the strand's natural_curvature (the hair type's curl): the new hair
+/// has not been shaped. `sequence`, when not null, receives the state
 /// after each step (steps entries). Rejects a step outside (0, kMaxGrowStep], steps outside
 /// [1, kMaxGrowSteps], step x steps above kMaxGrowLength, and growth that would give a master
 /// more than kMaxSegments segments.

@@ -264,9 +264,13 @@ bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection&
     StrandModel& m = state->masters.models[i];
     // Warm start: the old equilibrium shifted by the change of natural curvature (the linear
     // elastic response about the rest shape moves with it).
+    // A curl replaces the rest shape: a per-segment one (inverse statics) is dropped.
     VecX q = state->solutions[i].curvatures;
-    for (int k = 0; k < m.NumSegments(); ++k) q.segment<3>(3 * k) += natural - m.natural_curvature;
+    for (int k = 0; k < m.NumSegments(); ++k) {
+      q.segment<3>(3 * k) += natural - m.NaturalCurvature(k);
+    }
     m.natural_curvature = natural;
+    m.rest_curvatures.resize(0);
     // The wisp thickness follows the curliness (BuildMasters), from the dry fibre radius.
     const WispOptions& wisps = state->style.wisps;
     if (wisps.wisp_radius <= 0.0) {
@@ -457,6 +461,10 @@ StrandModel TruncateModel(const StrandModel& model, double arc_length, VecX* cur
     s += l;
   }
   if (out.segment_lengths.empty()) out.segment_lengths.push_back(arc_length);
+  // A per-segment rest shape keeps the rest curvatures of the kept segments, the cut one's too.
+  if (model.HasRestShape()) {
+    out.rest_curvatures = model.rest_curvatures.head(3 * out.NumSegments());
+  }
   if (curvatures) {
     const VecX q = *curvatures;
     *curvatures = WarmStart(q, q, out.NumSegments());
@@ -631,6 +639,16 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
         last -= max_segment[i];
       }
       l.push_back(last);
+      // A per-segment rest shape: the lengthened last segment keeps its rest curvatures, new
+      // segments get the hair type's natural curvature.
+      StrandModel& m = state->masters.models[i];
+      if (m.HasRestShape()) {
+        const Eigen::Index kept = m.rest_curvatures.size();
+        m.rest_curvatures.conservativeResize(3 * m.NumSegments());
+        for (Eigen::Index k = kept; k < m.rest_curvatures.size(); k += 3) {
+          m.rest_curvatures.segment<3>(k) = m.natural_curvature;
+        }
+      }
       const VecX& q = state->solutions[i].curvatures;
       warm[i] = WarmStart(q, q, static_cast<int>(l.size()));
     }

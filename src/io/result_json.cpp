@@ -37,6 +37,9 @@ constexpr UnitEntry kUnits[] = {
     {"points", "m, world coordinates, root to tip"},
     {"curvatures", "1/m: [kappa1, kappa2, tau] per segment in the material frame (n1, n2, t)"},
     {"segment_lengths", "m"},
+    {"rest_curvatures",
+     "1/m: [kappa1^0, kappa2^0, tau^0] per segment, the rest shape (only for strands that have "
+     "one, e.g. from ringlet invert)"},
     {"energy", "J: elastic, gravity (measured from the root), contact penalty and their total"},
     {"gradient_norm", "J m: norm of the energy gradient with respect to the curvatures"},
     {"residual", "dimensionless: internal-moment mismatch relative to the largest moment"},
@@ -130,7 +133,16 @@ class ResultWriter {
       if (i > 0) Raw(", ");
       Number(r.segment_lengths[i]);
     }
-    Raw("],\n      \"energy\": {\n        \"elastic\": ");
+    Raw("]");
+    if (r.rest_curvatures.size() >= 3) {
+      Raw(",\n      \"rest_curvatures\": [");
+      for (Eigen::Index i = 0; i + 2 < r.rest_curvatures.size(); i += 3) {
+        Raw(i == 0 ? "\n        " : ",\n        ");
+        Triple(r.rest_curvatures(i), r.rest_curvatures(i + 1), r.rest_curvatures(i + 2));
+      }
+      Raw("\n      ]");
+    }
+    Raw(",\n      \"energy\": {\n        \"elastic\": ");
     Number(s.energy.elastic);
     Raw(",\n        \"gravity\": ");
     Number(s.energy.gravity);
@@ -204,6 +216,7 @@ StrandResult MakeStrandResult(const StrandModel& model, const StrandSolution& so
   result.points = SampleCentreline(model, solution.curvatures, points_per_segment);
   result.curvatures = solution.curvatures;
   result.segment_lengths = model.segment_lengths;
+  result.rest_curvatures = model.rest_curvatures;
   result.summary = solution.summary;
   result.kirchhoff_residual = result.curvatures.allFinite()
                                   ? KirchhoffResidual(model, result.curvatures)
@@ -271,6 +284,13 @@ nlohmann::ordered_json ResultToJson(const std::vector<StrandResult>& strands, do
     strand["points"] = std::move(points);
     strand["curvatures"] = std::move(curvatures);
     strand["segment_lengths"] = std::move(lengths);
+    if (r.rest_curvatures.size() >= 3) {
+      json rest = json::array();
+      for (Eigen::Index i = 0; i + 2 < r.rest_curvatures.size(); i += 3) {
+        rest.push_back(Vector(r.rest_curvatures.segment<3>(i)));
+      }
+      strand["rest_curvatures"] = std::move(rest);
+    }
     strand["energy"] = {{"elastic", Number(s.energy.elastic)},
                         {"gravity", Number(s.energy.gravity)},
                         {"contact", Number(s.energy.contact)},

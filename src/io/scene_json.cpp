@@ -101,6 +101,40 @@ bool ParseRoot(Reader& reader, const json& strand, const std::string& strand_pat
   return true;
 }
 
+// The optional per-segment rest shape (issue 13, StrandModel::rest_curvatures): one triple
+// [kappa1^0, kappa2^0, tau^0] (1/m) per segment, after the segment layout is known.
+bool ParseRestCurvatures(Reader& reader, const json& strand, const std::string& path,
+                         StrandModel* model) {
+  const int n = model->NumSegments();
+  const std::string expected = "an array of " + std::to_string(n) +
+                               " triples [kappa1, kappa2, tau] (1/metre), one per segment";
+  const json* rest = nullptr;
+  if (!reader.ReadArray(strand, path, "rest_curvatures", expected.c_str(), &rest)) return false;
+  if (!rest) return true;
+  const std::string field = Member(path, "rest_curvatures");
+  if (rest->size() != static_cast<size_t>(n)) {
+    return reader.Fail(field, "has " + std::to_string(rest->size()) + " entries, expected " +
+                                  std::to_string(n) + " (one triple per segment)");
+  }
+  VecX values(3 * n);
+  for (int i = 0; i < n; ++i) {
+    const json& triple = (*rest)[static_cast<size_t>(i)];
+    const char* triple_expected = "an array of 3 finite numbers [kappa1, kappa2, tau] (1/metre)";
+    if (!triple.is_array() || triple.size() != 3) {
+      return reader.Expected(Element(field, static_cast<size_t>(i)), triple_expected, triple);
+    }
+    for (int j = 0; j < 3; ++j) {
+      const json& x = triple[static_cast<size_t>(j)];
+      if (!x.is_number() || !std::isfinite(x.get<double>())) {
+        return reader.Expected(Element(field, static_cast<size_t>(i)), triple_expected, triple);
+      }
+      values(3 * i + j) = x.get<double>();
+    }
+  }
+  model->rest_curvatures = std::move(values);
+  return true;
+}
+
 // The segment layout: explicit segment_lengths, or `segments` graded by `grading` (uniform by
 // default).
 bool ParseSegments(Reader& reader, const json& strand, const std::string& path, double length,
@@ -189,7 +223,8 @@ bool ParseStrand(Reader& reader, const json& strand, const std::string& path, co
   if (!reader.CheckFields(strand, path,
                           {"length", "segments", "grading", "segment_lengths", "radius",
                            "eccentricity", "ellipticity", "young_modulus", "poisson_ratio",
-                           "density", "natural_curvature", "natural_twist", "root"})) {
+                           "density", "natural_curvature", "natural_twist", "rest_curvatures",
+                           "root"})) {
     return false;
   }
   StrandModel model;
@@ -242,6 +277,7 @@ bool ParseStrand(Reader& reader, const json& strand, const std::string& path, co
   if (!ParseSegments(reader, strand, path, length, &model)) return false;
 
   if (!ParseRoot(reader, strand, path, &model)) return false;
+  if (!ParseRestCurvatures(reader, strand, path, &model)) return false;
 
   // Safety net: whatever the field checks above missed, the model's own validation catches.
   std::string why;

@@ -14,7 +14,7 @@ double ElasticEnergy(const StrandModel& model, const VecX& curvatures, VecX* gra
   if (gradient) gradient->resize(3 * n);
   for (int i = 0; i < n; ++i) {
     // 1/2 l_i (Omega_i - Omega^0)^T K (Omega_i - Omega^0), K diagonal (eq. 3, constant on the segment).
-    const Vec3 d = curvatures.segment<3>(3 * i) - model.natural_curvature;
+    const Vec3 d = curvatures.segment<3>(3 * i) - model.NaturalCurvature(i);
     const double l = model.segment_lengths[i];
     energy += 0.5 * l * d.dot(k.cwiseProduct(d));
     if (gradient) gradient->segment<3>(3 * i) = l * k.cwiseProduct(d);

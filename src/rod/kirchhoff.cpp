@@ -34,7 +34,7 @@ double EquilibriumResidual(const StrandModel& model, const VecX& curvatures,
   const double length = model.Length();
   double max_internal = 0.0;
   for (int i = 0; i < n; ++i) {
-    const Vec3 d = curvatures.segment<3>(3 * i) - model.natural_curvature;
+    const Vec3 d = curvatures.segment<3>(3 * i) - model.NaturalCurvature(i);
     max_internal = std::max(max_internal, k.cwiseProduct(d).norm());
   }
   // Moment scale: heaviest gravity moment, largest internal moment, and the moment E I1 / L that
@@ -129,7 +129,7 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
         integral += (0.5 * h * kWeights[q]) * (moment_below(mid - d) + moment_below(mid + d));
       }
     }
-    const Vec3 internal = l * k.cwiseProduct(omega - model.natural_curvature);
+    const Vec3 internal = l * k.cwiseProduct(omega - model.NaturalCurvature(i));
     imbalance.segment<3>(3 * i) = internal - integral;
   }
   return imbalance;

@@ -23,6 +23,7 @@ Vec3 StrandModel::WeightPerLength() const {
 }
 
 VecX StrandModel::NaturalCurvatures() const {
+  if (HasRestShape()) return rest_curvatures;
   VecX q(3 * NumSegments());
   for (int i = 0; i < NumSegments(); ++i) q.segment<3>(3 * i) = natural_curvature;
   return q;
@@ -111,6 +112,23 @@ bool IsValid(const StrandModel& model, std::string* why) {
   if (!model.natural_curvature.allFinite()) {
     if (why) *why = "natural curvature and twist must be finite (1/m)";
     return false;
+  }
+  if (model.rest_curvatures.size() != 0) {
+    if (model.rest_curvatures.size() != 3 * static_cast<Eigen::Index>(n)) {
+      if (why) {
+        *why = "rest curvatures must be empty or 3 per segment (" + std::to_string(3 * n) +
+               " numbers), got " + std::to_string(model.rest_curvatures.size());
+      }
+      return false;
+    }
+    for (Eigen::Index j = 0; j < model.rest_curvatures.size(); ++j) {
+      if (!std::isfinite(model.rest_curvatures(j))) {
+        if (why) {
+          *why = "rest curvatures of segment " + std::to_string(j / 3) + " must be finite (1/m)";
+        }
+        return false;
+      }
+    }
   }
   if (!model.root_position.allFinite()) {
     if (why) *why = "root position must be finite (m)";

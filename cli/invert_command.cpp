@@ -1,0 +1,337 @@
+// `ringlet invert TARGET -o OUTDIR/`: inverse statics (issue 13, docs/inverse.md). Reads target
+// strands (ringlet's own result / masters JSON as exact piecewise helices, or polylines from a
+// .hair file fitted by G1 piecewise helices), computes the rest shapes that hold them under
+// gravity (and body contact with --body), certifies their stability, verifies them by the forward
+// solve, compares with the naive rest shape, and writes:
+//   rest_shapes.json   a scene file (docs/scene-format.md) with per-strand rest_curvatures:
+//                      `ringlet solve rest_shapes.json` reproduces the equilibrium
+//   equilibrium.hair   the forward equilibria from the inverted rest shapes
+//   naive.hair         the forward equilibria from the naive rest shapes (the sag)
+//   summary.json       counts, fit errors, deviations, unstable strands, times
+//
+// Exit codes: 0 every target held stably, 2 some target is unstable or a forward solve did not
+// converge (files written, the summary says which), 1 bad usage or input (nothing written).
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "format.h"
+#include "outputs.h"
+#include "ringlet/body.h"
+#include "ringlet/body_json.h"
+#include "ringlet/cross_section.h"
+#include "ringlet/hair_file.h"
+#include "ringlet/hair_type.h"
+#include "ringlet/inverse.h"
+#include "ringlet/result_targets.h"
+#include "ringlet/scene_json.h"
+#include "ringlet/strand_geometry.h"
+
+namespace ringlet::cli {
+namespace {
+
+struct InvertArgs {
+  std::string target_path;
+  std::string output_dir;
+  std::string body_path;
+  std::string hair_type;  // "origin" or "origin/curl"
+  int segments = 0;
+  double fit_tolerance = 1e-3;
+  double units_per_metre = 1.0;
+  std::string up = "z";
+  double clearance = 0.0;
+  int threads = 0;
+  bool force = false;
+  bool quiet = false;
+};
+
+constexpr const char* kOutputs[] = {"rest_shapes.json", "equilibrium.hair", "naive.hair",
+                                    "summary.json"};
+
+std::string Lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// The strand's physical parameters: the hair type's (section, material and natural curvature of
+// strand i, SampleStrand with seed 1), or the paper's defaults (50 um circular, E = 10 GPa,
+// rho = 1300 kg/m^3, straight).
+bool MaterialOf(const InvertArgs& args, int index, StrandModel* model, std::string* error) {
+  if (args.hair_type.empty()) {
+    model->section = SectionFromEccentricity(kDefaultRadius, 0.0);
+    model->material = Material{};
+    return true;
+  }
+  const size_t slash = args.hair_type.find('/');
+  const std::string origin = args.hair_type.substr(0, slash);
+  const std::string curl = slash == std::string::npos ? "" : args.hair_type.substr(slash + 1);
+  HairType type;
+  std::string why;
+  if (!FindHairType(origin, curl, &type, &why)) {
+    *error = "--hair-type: " + why;
+    return false;
+  }
+  const StrandParameters p = SampleStrand(type, 1, static_cast<uint64_t>(index));
+  model->section = p.section;
+  model->material = p.material;
+  model->natural_curvature = p.natural_curvature;
+  return true;
+}
+
+int RunInvert(const InvertArgs& args) {
+  const auto start = std::chrono::steady_clock::now();
+  std::string error;
+  if (args.up != "z" && args.up != "y") {
+    PrintError("--up: expected y or z, got \"" + args.up + "\"");
+    return kExitBadInput;
+  }
+  if (!(std::isfinite(args.units_per_metre) && args.units_per_metre > 0.0)) {
+    PrintError("--units-per-metre: expected a finite number > 0");
+    return kExitBadInput;
+  }
+  FitOptions fit_options;
+  fit_options.segments = args.segments;
+  fit_options.tolerance = args.fit_tolerance;
+  if (!fit_options.IsValid(&error)) {
+    PrintError("--segments / --fit-tolerance: " + error);
+    return kExitBadInput;
+  }
+  std::vector<std::string> names(std::begin(kOutputs), std::end(kOutputs));
+  if (!CheckOutputDirectory(args.output_dir, names, args.force, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  std::shared_ptr<const Body> body;
+  if (!args.body_path.empty()) {
+    auto loaded = std::make_shared<Body>();
+    if (!LoadBody(args.body_path, loaded.get(), &error)) {
+      PrintError(error);
+      return kExitBadInput;
+    }
+    body = std::move(loaded);
+  }
+
+  // Targets: exact piecewise helices from ringlet's JSON, or fitted polylines.
+  const std::string extension = Lower(std::filesystem::path(args.target_path).extension().string());
+  std::vector<StrandModel> models;
+  std::vector<VecX> targets;
+  std::vector<double> fit_max, fit_rms;
+  const auto fit_start = std::chrono::steady_clock::now();
+  if (extension == ".json") {
+    std::vector<ExactTarget> exact;
+    if (!ReadResultTargets(args.target_path, &exact, &error)) {
+      PrintError(error);
+      return kExitBadInput;
+    }
+    for (size_t i = 0; i < exact.size(); ++i) {
+      StrandModel m;
+      m.segment_lengths = exact[i].segment_lengths;
+      m.root_position = exact[i].root_position;
+      m.root_frame = exact[i].frame_from_file
+                         ? exact[i].root_frame
+                         : DefaultRootFrame(exact[i].root_frame.col(2), fit_options.n1_axis);
+      models.push_back(std::move(m));
+      targets.push_back(exact[i].curvatures);
+      fit_max.push_back(0.0);
+      fit_rms.push_back(0.0);
+    }
+  } else if (extension == ".hair") {
+    HairCurves curves;
+    if (!ReadHairFile(args.target_path, &curves, &error, args.units_per_metre)) {
+      PrintError(error);
+      return kExitBadInput;
+    }
+    if (curves.NumStrands() == 0) {
+      PrintError(args.target_path + ": no strands");
+      return kExitBadInput;
+    }
+    size_t offset = 0;
+    for (int k = 0; k < curves.NumStrands(); ++k) {
+      std::vector<Vec3> points;
+      for (uint32_t p = 0; p < curves.point_counts[static_cast<size_t>(k)]; ++p) {
+        const Vec3 x = curves.points[offset + p].cast<double>();
+        // y up -> z up: a quarter turn about x, (x, y, z) -> (x, -z, y).
+        points.push_back(args.up == "y" ? Vec3(x.x(), -x.z(), x.y()) : x);
+      }
+      offset += curves.point_counts[static_cast<size_t>(k)];
+      HelixFit fit;
+      std::string why;
+      if (!FitPiecewiseHelix(points, nullptr, fit_options, &fit, &why)) {
+        PrintError(args.target_path + ": strand " + std::to_string(k) + ": " + why);
+        return kExitBadInput;
+      }
+      StrandModel m;
+      m.segment_lengths = fit.segment_lengths;
+      m.root_position = fit.root_position;
+      m.root_frame = fit.root_frame;
+      models.push_back(std::move(m));
+      targets.push_back(fit.curvatures);
+      fit_max.push_back(fit.max_distance);
+      fit_rms.push_back(fit.rms_distance);
+    }
+  } else {
+    PrintError(args.target_path + ": unknown target format \"" + extension +
+               "\" (expected .json: a ringlet result or masters file, or .hair)");
+    return kExitBadInput;
+  }
+  const double fit_seconds = SecondsSince(fit_start);
+  for (size_t i = 0; i < models.size(); ++i) {
+    if (!MaterialOf(args, static_cast<int>(i), &models[i], &error)) {
+      PrintError(error);
+      return kExitBadInput;
+    }
+    models[i].contact.obstacle = body;
+    models[i].contact.clearance = args.clearance;
+    std::string why;
+    if (!IsValid(models[i], &why)) {
+      PrintError(args.target_path + ": strand " + std::to_string(i) + ": " + why);
+      return kExitBadInput;
+    }
+  }
+
+  const auto invert_start = std::chrono::steady_clock::now();
+  const std::vector<InverseResult> results =
+      InvertStrands(models, targets, InverseOptions{}, args.threads);
+  const double invert_seconds = SecondsSince(invert_start);
+
+  // Outputs, encoded before anything is written.
+  HairCurves equilibrium, naive;
+  int unstable = 0, unconverged = 0;
+  double max_fit = 0.0, max_fit_l = 0.0, sum_fit2 = 0.0, max_dev = 0.0, max_dev_l = 0.0,
+         max_naive = 0.0, max_naive_l = 0.0;
+  nlohmann::ordered_json per_strand = nlohmann::ordered_json::array();
+  std::vector<StrandModel> inverted = models;
+  for (size_t i = 0; i < models.size(); ++i) {
+    const InverseResult& r = results[i];
+    const double length = models[i].Length();
+    inverted[i].rest_curvatures = r.rest_curvatures;
+    unstable += r.stable ? 0 : 1;
+    unconverged += r.forward.Converged() ? 0 : 1;
+    max_fit = std::max(max_fit, fit_max[i]);
+    max_fit_l = std::max(max_fit_l, fit_max[i] / length);
+    sum_fit2 += fit_rms[i] * fit_rms[i];
+    max_dev = std::max(max_dev, r.deviation);
+    max_dev_l = std::max(max_dev_l, r.deviation / length);
+    max_naive = std::max(max_naive, r.naive_deviation);
+    max_naive_l = std::max(max_naive_l, r.naive_deviation / length);
+    for (auto [curves, q] : {std::pair{&equilibrium, &r.equilibrium},
+                             std::pair{&naive, &r.naive_equilibrium}}) {
+      const std::vector<Vec3> points = SampleCentreline(models[i], *q, 4);
+      curves->point_counts.push_back(static_cast<uint32_t>(points.size()));
+      for (const Vec3& p : points) {
+        curves->points.push_back(p.cast<float>());
+        curves->widths.push_back(static_cast<float>(2.0 * models[i].section.MeanRadius()));
+      }
+    }
+    per_strand.push_back({{"length", length},
+                          {"segments", models[i].NumSegments()},
+                          {"fit_max_distance", fit_max[i]},
+                          {"fit_rms_distance", fit_rms[i]},
+                          {"stable", r.stable},
+                          {"min_hessian_eigenvalue", r.min_eigenvalue},
+                          {"kirchhoff_residual", r.kirchhoff_residual},
+                          {"deviation", r.deviation},
+                          {"naive_deviation", r.naive_deviation},
+                          {"forward_termination", TerminationName(r.forward.termination)},
+                          {"message", r.message}});
+  }
+  const int n = static_cast<int>(models.size());
+  nlohmann::ordered_json summary = {
+      {"strands", n},
+      {"unstable", unstable},
+      {"unconverged", unconverged},
+      {"fit_max_distance", max_fit},
+      {"fit_max_distance_per_length", max_fit_l},
+      {"fit_rms_distance", std::sqrt(sum_fit2 / std::max(1, n))},
+      {"max_deviation", max_dev},
+      {"max_deviation_per_length", max_dev_l},
+      {"naive_max_deviation", max_naive},
+      {"naive_max_deviation_per_length", max_naive_l},
+      {"fit_seconds", fit_seconds},
+      {"invert_seconds", invert_seconds},
+      {"strand_results", std::move(per_strand)},
+      {"units",
+       {{"distances", "m (and per_length: units of each strand's length L)"},
+        {"deviation",
+         "largest distance from the target of the forward equilibrium from the inverted rest "
+         "shape (naive_: from the rest shape = target)"}}}};
+  std::vector<std::pair<std::string, std::string>> files;
+  files.emplace_back("rest_shapes.json", SceneToString(inverted));
+  HairFileOptions hair_options;
+  hair_options.units_per_metre = args.units_per_metre;
+  for (auto [name, curves] : {std::pair{"equilibrium.hair", &equilibrium},
+                              std::pair{"naive.hair", &naive}}) {
+    std::string bytes;
+    if (!EncodeHairFile(*curves, hair_options, &bytes, &error)) {
+      PrintError(std::string(name) + ": " + error);
+      return kExitBadInput;
+    }
+    files.emplace_back(name, std::move(bytes));
+  }
+  summary["seconds"] = SecondsSince(start);
+  files.emplace_back("summary.json", summary.dump(1) + "\n");
+  if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  if (!args.quiet) {
+    std::printf(
+        "inverted %d strands: fit max %.3g m (%.3g L), deviation with the inverted rest shapes "
+        "max %.3g m (%.3g L), with the naive ones %.3g m (%.3g L); %d unstable, %d unconverged; "
+        "fit %s, inversion %s, total %s -> %s\n",
+        n, max_fit, max_fit_l, max_dev, max_dev_l, max_naive, max_naive_l, unstable, unconverged,
+        FormatSeconds(fit_seconds).c_str(), FormatSeconds(invert_seconds).c_str(),
+        FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
+    std::fflush(stdout);
+    if (unstable + unconverged > 0) {
+      PrintWarning(Format("%d of %d targets cannot be held stably (see summary.json)",
+                          unstable + unconverged, n));
+    }
+  }
+  return unstable + unconverged == 0 ? kExitSuccess : kExitUnsolved;
+}
+
+}  // namespace
+
+Command AddInvertCommand(CLI::App* parent) {
+  auto args = std::make_shared<InvertArgs>();
+  CLI::App* app = parent->add_subcommand(
+      "invert",
+      "Inverse statics: rest shapes that hold target strands under gravity (and body contact), "
+      "certified stable and verified by the forward solve; writes rest_shapes.json (a scene), "
+      "equilibrium.hair, naive.hair and summary.json. Exit code 0 when every target holds "
+      "stably, 2 when some cannot (files still written), 1 on bad usage or input.");
+  app->add_option("target", args->target_path,
+                  "Target strands: a ringlet result or masters JSON (exact), or a .hair file")
+      ->required();
+  app->add_option("-o,--output", args->output_dir, "Output directory (created if missing)")
+      ->required();
+  app->add_option("--body", args->body_path, "Body file (JSON, docs/body.md) for contact");
+  app->add_option("--clearance", args->clearance, "Contact clearance (m), default 0")
+      ->check(CLI::Range(0.0, 0.1));
+  app->add_option("--hair-type", args->hair_type,
+                  "Hair type ORIGIN or ORIGIN/CURL (docs/hair-types.md) for the section, material "
+                  "and natural curl; default: the paper's 50-um straight fibre");
+  app->add_option("--segments", args->segments,
+                  "Segments per fitted polyline (default 0: the fewest meeting --fit-tolerance)")
+      ->check(CLI::Range(0, kMaxSegments));
+  app->add_option("--fit-tolerance", args->fit_tolerance,
+                  "Largest fit distance in units of the strand length (default 1e-3)");
+  app->add_option("--units-per-metre", args->units_per_metre,
+                  "Length unit of .hair files per metre (default 1; 100: cm)");
+  app->add_option("--up", args->up, "Up axis of the target file: z (default) or y");
+  app->add_flag("--force", args->force, "Overwrite existing output files");
+  app->add_option("--threads", args->threads, "Worker threads (default 0: all cores)")
+      ->check(CLI::Range(0, 1024));
+  app->add_flag("-q,--quiet", args->quiet, "Print no summary (errors still go to stderr)");
+  return Command{app, [args] { return RunInvert(*args); }};
+}
+
+}  // namespace ringlet::cli

@@ -1,0 +1,162 @@
+// Inverse statics (issue 13, docs/inverse.md): the rest shape that makes a target configuration
+// an equilibrium under gravity and contact, its stability certificate, the forward verification,
+// and the fit of target polylines by G1 piecewise helices.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ringlet/math.h"
+#include "ringlet/statics.h"
+#include "ringlet/strand_model.h"
+
+namespace ringlet {
+
+/// The rest curvatures that make `target` (3n curvatures, 1/m) an equilibrium of `model` (its
+/// gravity and contact; its own rest shape is ignored). The energy is
+///   E(q) = sum_i 1/2 l_i (q_i - q0_i)^T K (q_i - q0_i) + E_ext(q),   E_ext = E_g + E_c
+/// (paper eqs. 2-4 and section 3.1, with a rest shape q0_i per segment), so
+///   dE/dq_i = l_i K (q_i - q0_i) + dE_ext/dq_i,
+/// and the equilibrium dE/dq = 0 at q gives, segment by segment (K diagonal, l_i > 0),
+///   q0_i = q_i + (l_i K)^(-1) dE_ext/dq_i(q)
+/// (Derouet-Jourdan et al. 2010, section 4, for super-helices; Hsu et al. 2023 for discrete
+/// rods). dE_ext/dq is the exact O(n) gradient of energy.h. Returns the 3n-vector q0 (1/m).
+VecX InverseRestCurvatures(const StrandModel& model, const VecX& target);
+
+/// Options of InvertStrand.
+struct InverseOptions {
+  /// Run the forward solve from the inverted rest shape, started at the target, and measure
+  /// how far the equilibrium it reaches lies from the target (the built-in verification).
+  bool verify = true;
+  /// Also run the forward solve with the naive rest shape q0 = target (what an artist's groom
+  /// does when physics starts) and measure its sag.
+  bool naive = true;
+  /// Centreline samples per segment for the deviations (>= 1).
+  int points_per_segment = 4;
+  /// The forward solves. Stability checking stays on: it is what moves an unstable target to
+  /// the closest stable alternative (InverseResult::equilibrium).
+  SolveOptions solver = [] {
+    SolveOptions o;
+    o.tolerance = 1e-10;
+    return o;
+  }();
+
+  /// Checks the fields; says which and what was expected.
+  bool IsValid(std::string* why) const;
+};
+
+/// What InvertStrand found for one strand.
+struct InverseResult {
+  /// The rest shape q0 (3n, 1/m): InverseRestCurvatures.
+  VecX rest_curvatures;
+  /// Stability certificate of the target with that rest shape: the exact Hessian at the target
+  /// (strand_hessian.h; it does not depend on q0, whose only trace in E is the constant elastic
+  /// Hessian l_i K) is positive definite, certified by its O(n) block LDL^T factorization. A
+  /// target that is not a strict local minimum cannot be held stably by ANY rest shape.
+  bool stable = false;
+  /// The segment whose pivot failed in the factorization (-1 when stable).
+  int failed_segment = -1;
+  /// Smallest eigenvalue of the stiffness-scaled Hessian at the target (1 = no load, < 0
+  /// unstable; see SolveSummary::min_eigenvalue for its accuracy).
+  double min_eigenvalue = 0.0;
+  /// Kirchhoff's balance at the target with the inverted rest shape (KirchhoffResidual, by
+  /// quadrature, independent of the gradient code that gave q0): ~1e-15 when q0 is right.
+  double kirchhoff_residual = 0.0;
+  /// The forward solve from q0 started at the target (when verify): its equilibrium and summary.
+  /// For a stable target it stays there; for an unstable one, the solver leaves the target along
+  /// the most negative curvature direction and settles in the nearest stable equilibrium of the
+  /// same rest shape: that is the closest stable alternative reported (docs/inverse.md).
+  VecX equilibrium;
+  SolveSummary forward;
+  /// Largest distance between the centrelines of the target and of `equilibrium` (m), at
+  /// points_per_segment samples per segment; 0 when not verified.
+  double deviation = 0.0;
+  /// The naive rest shape (q0 = target) after the forward solve from the target (when naive):
+  /// its equilibrium, summary and largest distance from the target (m).
+  VecX naive_equilibrium;
+  SolveSummary naive_forward;
+  double naive_deviation = 0.0;
+  /// One human line.
+  std::string message;
+};
+
+/// Inverts one strand: rest shape, certificate, verification and naive comparison. model gives
+/// the segments, section, material, root, gravity and contact (its rest shape is ignored);
+/// target has size 3n.
+InverseResult InvertStrand(const StrandModel& model, const VecX& target,
+                           const InverseOptions& options = {});
+
+/// InvertStrand on every (models[i], targets[i]) pair, in parallel across strands (TBB) on
+/// `threads` worker threads (0: all). The results do not depend on the thread count.
+std::vector<InverseResult> InvertStrands(const std::vector<StrandModel>& models,
+                                         const std::vector<VecX>& targets,
+                                         const InverseOptions& options = {}, int threads = 0);
+
+/// Largest distance (m) between the centrelines of two configurations of the same model, at the
+/// root, the segment ends and points_per_segment - 1 points inside each segment.
+double CentrelineDeviation(const StrandModel& model, const VecX& a, const VecX& b,
+                           int points_per_segment);
+
+// ---------------------------------------------------------------------------------------------
+// Fit of a target polyline by a G1 piecewise helix.
+
+/// The root frame when the target has none: the tangent t (normalized), and n1 the unit
+/// projection of `axis` on the plane normal to t; when axis is within ~25 degrees of t
+/// (|axis . t| > 0.9 |axis|), of the world axis among x, y, z least aligned with t instead.
+/// n2 = t x n1. For a groom, pass the scalp normal or the head's up axis (the comb frame of
+/// scalp.h has n2 away from the scalp); the fit itself does not depend on n1 (turning n1 about t
+/// turns (kappa1, kappa2) with it), only the soft bending axis of an elliptic section does.
+Mat3 DefaultRootFrame(const Vec3& tangent, const Vec3& axis);
+
+/// Options of FitPiecewiseHelix.
+struct FitOptions {
+  /// Segment count n (1 to the number of polyline edges); 0 chooses it: the smallest n of the
+  /// sequence 1, 2, 4, ... (capped at the edge count) whose fit has a largest distance of at
+  /// most tolerance.
+  int segments = 0;
+  /// Largest allowed distance from a target point to the fitted curve, in units of the
+  /// polyline's length (dimensionless, > 0), when segments = 0.
+  double tolerance = 1e-3;
+  /// Levenberg-Marquardt iterations per segment (>= 1).
+  int max_iterations = 100;
+  /// The axis of DefaultRootFrame's n1 rule when no root frame is given (world, non-zero).
+  Vec3 n1_axis = Vec3::UnitZ();
+
+  bool IsValid(std::string* why) const;
+};
+
+/// A fitted strand: a clamped piecewise helix (root position and frame, segment lengths,
+/// curvatures), and its distance to the target points.
+struct HelixFit {
+  Vec3 root_position = Vec3::Zero();   ///< the first target point (m)
+  Mat3 root_frame = Mat3::Identity();  ///< (n1, n2, t) at the root, world_from_material
+  std::vector<double> segment_lengths; ///< (m)
+  VecX curvatures;                     ///< 3n (1/m)
+  /// For each target point, the arc length of its matching curve point (m), 0 for the root.
+  std::vector<double> arc_lengths;
+  double max_distance = 0.0;  ///< largest |r(s_j) - P_j| over the target points (m)
+  double rms_distance = 0.0;  ///< root mean square of the same (m)
+  double length = 0.0;        ///< fitted length L, the sum of the segment lengths (m)
+  int iterations = 0;         ///< Levenberg-Marquardt iterations, all segments
+
+  int NumSegments() const { return static_cast<int>(segment_lengths.size()); }
+};
+
+/// Fits a G1 piecewise helix to the polyline `points` (m, root first, >= 2 points, consecutive
+/// points distinct). The root is clamped at points[0] with root_frame when given (ringlet's own
+/// files), otherwise with the tangent along the first edge and DefaultRootFrame's n1.
+///
+/// Method: segment boundaries lie at target points (segment i spans edges [b_i, b_(i+1)) with
+/// b_i = floor(i m / n), m edges), and the segments are fitted root to tip, each from the end
+/// frame of the previous one (so the curve is G1 by construction): the unknowns of segment i are
+/// its curvatures Omega (3), its length l and the arc lengths sigma_j l of its inner target
+/// points; the residuals are r(sigma_j l) - P_j for the inner points and r(l) - P_end for the
+/// point at its end (pinned, so that errors do not accumulate along the strand). They are
+/// minimized by Levenberg-Marquardt with the exact Jacobian of the closed-form helix (chord
+/// derivative HelixChordVjp, tangent R(u) e3), from the circular arc that leaves with the start
+/// tangent and reaches the end point. A target that is itself a G1 piecewise helix with breaks
+/// at its points is recovered to rounding. Returns false with a one-line reason for bad input.
+bool FitPiecewiseHelix(const std::vector<Vec3>& points, const Mat3* root_frame,
+                       const FitOptions& options, HelixFit* fit, std::string* why);
+
+}  // namespace ringlet
