@@ -94,6 +94,10 @@ bool RootFrameFromTangentNormal(const Vec3& tangent, const Vec3& normal, Mat3* f
   return true;
 }
 
+double NaturalTurning(const StrandModel& model) {
+  return model.natural_curvature.norm() * model.Length();
+}
+
 bool IsValid(const StrandModel& model, std::string* why) {
   const int n = model.NumSegments();
   if (n < 1 || n > kMaxSegments) {
@@ -110,6 +114,14 @@ bool IsValid(const StrandModel& model, std::string* why) {
   if (!IsValid(model.material, why)) return false;
   if (!model.natural_curvature.allFinite()) {
     if (why) *why = "natural curvature and twist must be finite (1/m)";
+    return false;
+  }
+  if (!(NaturalTurning(model) <= kMaxNaturalTurning)) {
+    if (why) {
+      *why = "natural curvature and twist times length must be at most " +
+             std::to_string(static_cast<long>(kMaxNaturalTurning)) + " rad, got " +
+             std::to_string(NaturalTurning(model)) + " rad";
+    }
     return false;
   }
   if (!model.root_position.allFinite()) {
