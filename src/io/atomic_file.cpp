@@ -101,8 +101,14 @@ void UnregisterCleanup(int slot) {
 
 extern "C" void RemoveTemporariesAndReraise(int signal_number) {
   // Files first, then the directories created for them (deepest were registered last).
+  // Only regular files: for the instant of a RENAME_EXCHANGE (Commit) a temporary name can
+  // hold what was at the output path, which is swapped back when it is not a regular file.
   for (int i = 0; i < kCleanupSlots; ++i) {
-    if (g_cleanup[i].state.load() == kFile) ::unlink(g_cleanup[i].path);
+    struct stat info;
+    if (g_cleanup[i].state.load() == kFile && ::lstat(g_cleanup[i].path, &info) == 0 &&
+        S_ISREG(info.st_mode)) {
+      ::unlink(g_cleanup[i].path);
+    }
   }
   for (int i = kCleanupSlots - 1; i >= 0; --i) {
     if (g_cleanup[i].state.load() == kDirectory) ::rmdir(g_cleanup[i].path);  // only if empty
