@@ -69,7 +69,7 @@ bad "solve: 101 x 100,000 segments" \
 # Natural turning |kappa| L at most 10^5 rad (the Kirchhoff certificate's work grows with it).
 echo '{"strands": [{"length": 1, "natural_curvature": [1e6, 0]}]}' >"$work/in/turning.json"
 bad "solve: natural curvature 1e6 over 1 m" \
-  "strands[0].natural_curvature: with natural_twist, turns the strand by 1000000.0 rad over its length, more than the limit of 100000.0 rad" \
+  "strands[0].natural_curvature: with natural_twist, turns the strand by 1e+06 rad over its length, more than the limit of 1e+05 rad" \
   solve "$work/in/turning.json" -o "$work/never"
 
 # Hairstyles: masters x segments, masters x (1 + children) x segments when every child is

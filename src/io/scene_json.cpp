@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -268,13 +269,14 @@ bool ParseStrand(Reader& reader, const json& strand, const std::string& path, co
   // Segment layout: uniform, graded (a ratio or "auto") or explicit lengths.
   if (!ParseSegments(reader, strand, path, length, budget, &model)) return false;
   // The natural turning bounds the Kirchhoff certificate's work (strand_model.h).
-  if (!(model.natural_curvature.norm() * length <= kMaxNaturalTurning)) {
+  const double turning = model.natural_curvature.norm() * length;
+  if (!(turning <= kMaxNaturalTurning)) {
+    char number[32];
+    std::snprintf(number, sizeof(number), "%.6g", turning);  // "1e+06", "inf"
     return reader.Fail(Member(path, "natural_curvature"),
-                       "with natural_twist, turns the strand by " +
-                           json(model.natural_curvature.norm() * length).dump() +
-                           " rad over its length, more than the limit of " +
-                           json(kMaxNaturalTurning).dump() +
-                           " rad (|(kappa1, kappa2, tau)| x length)");
+                       std::string("with natural_twist, turns the strand by ") + number +
+                           " rad over its length, more than the limit of 1e+05 rad (|(kappa1, "
+                           "kappa2, tau)| x length)");
   }
 
   if (!ParseRoot(reader, strand, path, &model)) return false;
