@@ -9,6 +9,7 @@
 #include <string>
 
 #include "ringlet/body.h"
+#include "ringlet/cross_section.h"
 #include "ringlet/hair_type.h"
 #include "ringlet/hairstyle.h"
 #include "ringlet/render.h"
@@ -65,6 +66,7 @@ TEST(Limits, RenderRefusesTooManySamplesBeforeRendering) {
 
 TEST(Limits, NaturalTurning) {
   StrandModel model;
+  model.section = SectionFromEccentricity(50e-6, 0.0);  // the paper's 50-um circular fibre
   model.segment_lengths = UniformSegments(1.0, 10);
   std::string why;
   model.natural_curvature = Vec3(0.6e5, 0.0, 0.8e5);  // |.| = 1e5 1/m over 1 m: the limit
