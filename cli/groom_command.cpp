@@ -21,6 +21,7 @@
 #include "outputs.h"
 #include "progress.h"
 #include "ringlet/atomic_file.h"
+#include "ringlet/png_image.h"
 #include "ringlet/hair_file.h"
 #include "ringlet/hairstyle.h"
 #include "ringlet/hairstyle_json.h"
@@ -152,6 +153,12 @@ int RunGroom(const GroomArgs& args) {
                ": only with --render");
     return kExitBadInput;
   }
+  if (args.render &&
+      !CheckRenderSize(render_settings.options.width, render_settings.options.height,
+                       render_settings.options.samples_per_pixel, &error)) {
+    PrintError("--width, --height, --spp (or the file's render settings): " + error);
+    return kExitBadInput;
+  }
   std::vector<std::string> names;
   for (const OutputFile& o : kOutputs) {
     if (formats.count(o.format)) names.push_back(o.name);
@@ -211,13 +218,17 @@ int RunGroom(const GroomArgs& args) {
     }
     files.emplace_back(o.name, std::move(contents));
   }
-  if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
-    PrintError(error);
-    return kExitBadInput;
-  }
   const std::string image_path = (std::filesystem::path(args.output_dir) / kRenderName).string();
-  if (args.render &&
-      !WriteJobImage(image_path, image, render_settings.exposure, args.force, &error)) {
+  if (args.render) {
+    std::string png;
+    if (!EncodePng(image, render_settings.exposure, &png, &error)) {
+      PrintError(image_path + ": " + error);
+      return kExitBadInput;
+    }
+    files.emplace_back(kRenderName, std::move(png));
+  }
+  // All files or none (a failure while renaming says which ones are missing).
+  if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
     PrintError(error);
     return kExitBadInput;
   }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ringlet/atomic_file.h"
 #include "commands.h"
 
 #ifndef RINGLET_VERSION
@@ -14,6 +15,8 @@
 
 int main(int argc, char** argv) {
   using ringlet::cli::Command;
+  // An interrupted command leaves no temporary file behind (docs/robustness.md).
+  ringlet::RemoveTemporariesOnSignals();
   CLI::App app{
       "ringlet: hair strands as Kirchhoff rods (super-helices), statics by energy "
       "minimization.",

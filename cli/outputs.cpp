@@ -42,17 +42,7 @@ bool CheckOutputDirectory(const std::string& directory, const std::vector<std::s
 bool WriteOutputFiles(const std::string& directory,
                       const std::vector<std::pair<std::string, std::string>>& files, bool force,
                       std::string* error) {
-  std::error_code ec;
-  fs::create_directories(directory, ec);
-  if (ec) {
-    *error = directory + ": cannot create the directory: " + ec.message();
-    return false;
-  }
-  for (const auto& [name, contents] : files) {
-    const std::string path = (fs::path(directory) / name).string();
-    if (!WriteFileAtomically(path, contents, force, error)) return false;
-  }
-  return true;
+  return WriteFilesAtomically(directory, files, force, error);
 }
 
 }  // namespace ringlet::cli

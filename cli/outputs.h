@@ -18,8 +18,9 @@ double SecondsSince(std::chrono::steady_clock::time_point start);
 bool CheckOutputDirectory(const std::string& directory, const std::vector<std::string>& names,
                           bool force, std::string* error);
 
-/// Creates the directory if needed and writes each (name, contents) into it with
-/// WriteFileAtomically. On failure *error gets one line naming the path.
+/// Creates the directory if needed and writes the (name, contents) into it as one output
+/// (WriteFilesAtomically): all files or, after a failure while writing, none; a failure while
+/// renaming names the files written and missing. On failure *error gets one line.
 bool WriteOutputFiles(const std::string& directory,
                       const std::vector<std::pair<std::string, std::string>>& files, bool force,
                       std::string* error);

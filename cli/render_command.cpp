@@ -131,6 +131,11 @@ int RunRender(const RenderArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
+  if (!CheckRenderSize(settings.options.width, settings.options.height,
+                       settings.options.samples_per_pixel, &error)) {
+    PrintError("--width, --height, --spp (or the settings): " + error);
+    return kExitBadInput;
+  }
 
   RenderJob job;
   job.settings = settings;

@@ -25,6 +25,7 @@
 #include "outputs.h"
 #include "render_image.h"
 #include "ringlet/atomic_file.h"
+#include "ringlet/png_image.h"
 #include "ringlet/hair_file.h"
 #include "ringlet/hairstyle.h"
 #include "ringlet/hairstyle_json.h"
@@ -282,13 +283,17 @@ int RunStyle(const StyleArgs& args) {
     });
   }
   if (!ok) return kExitBadInput;
-  if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
-    PrintError(error);
-    return kExitBadInput;
-  }
   const std::string image_path = (std::filesystem::path(args.output_dir) / "render.png").string();
-  if (args.render &&
-      !WriteJobImage(image_path, image, render_settings.exposure, args.force, &error)) {
+  if (args.render) {
+    std::string png;
+    if (!EncodePng(image, render_settings.exposure, &png, &error)) {
+      PrintError(image_path + ": " + error);
+      return kExitBadInput;
+    }
+    files.emplace_back("render.png", std::move(png));
+  }
+  // All files or none (a failure while renaming says which ones are missing).
+  if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
     PrintError(error);
     return kExitBadInput;
   }

@@ -11,6 +11,7 @@ packages=(
   python3-numpy python3-matplotlib
   libglfw3-dev libimgui-dev libgl-dev libepoxy-dev
   xvfb xauth libgl1-mesa-dri
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()

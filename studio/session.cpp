@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -213,17 +212,20 @@ Session::~Session() {
 }
 
 bool Session::Open(const std::string& path, std::string* error) {
-  std::ifstream file(path);
-  if (!file) {
-    *error = path + ": cannot open the file";
-    return false;
-  }
-  // Checked by the library's reader first, for the CLI's messages (syntax errors with line and
-  // column, fields by name).
+  // Read once (a regular file under the JSON size cap), checked by the library's reader first,
+  // for the CLI's messages (syntax errors with line and column, fields by name, the nesting
+  // limit); only then is the same text parsed again in order (nlohmann's recursive parser never
+  // sees a document deeper than the reader's limit).
+  std::string text;
+  if (!ReadFile(path, &text, error)) return false;
   Hairstyle style;
   std::vector<StyleOperation> operations;
-  if (!LoadHairstyle(path, &style, &operations, error)) return false;
-  const ojson json = ojson::parse(file, nullptr, false);
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  if (!ParseHairstyleText(text, base.empty() ? "." : base, &style, &operations, error)) {
+    *error = path + ": " + *error;
+    return false;
+  }
+  const ojson json = ojson::parse(text, nullptr, false);
   if (json.is_discarded() || !json.is_object()) {
     *error = path + ": not a JSON object";
     return false;

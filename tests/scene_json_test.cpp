@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -963,6 +964,64 @@ TEST(AtomicFile, OverwriteReplacesOnlyRegularFiles) {
   EXPECT_TRUE(WriteFileAtomically(target, "new", true, &error)) << error;
   EXPECT_EQ(ReadAll(target), "new");
   EXPECT_EQ(dir.Entries().size(), 3u);
+}
+
+// Several files as one output (issue 16): all of them, or none and nothing left behind.
+TEST(AtomicFile, WriteFilesWritesAllInNewDirectories) {
+  TempDirectory dir;
+  const std::string out = dir.path() + "/a/b";
+  std::string error;
+  ASSERT_TRUE(WriteFilesAtomically(out, {{"one", "1"}, {"two", "22"}, {"three", ""}}, false,
+                                   &error))
+      << error;
+  EXPECT_EQ(ReadAll(out + "/one"), "1");
+  EXPECT_EQ(ReadAll(out + "/two"), "22");
+  EXPECT_EQ(ReadAll(out + "/three"), "");
+  size_t entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(out)) {
+    ++entries;
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos);
+  }
+  EXPECT_EQ(entries, 3u);
+}
+
+TEST(AtomicFile, WriteFilesWritesNoneWhenOneCannotBeWritten) {
+  TempDirectory dir;
+  // An existing output: "one" holds old contents, "three" is a FIFO (never replaced).
+  std::ofstream(dir.path() + "/one") << "old";
+  ASSERT_EQ(::mkfifo((dir.path() + "/three").c_str(), 0600), 0);
+  std::string error;
+  EXPECT_FALSE(WriteFilesAtomically(dir.path(), {{"one", "new"}, {"two", "2"}, {"three", "3"}},
+                                    true, &error));
+  EXPECT_EQ(error, dir.path() + "/three: exists and is a FIFO; only a regular file may be "
+                                "replaced (nothing was written)");
+  EXPECT_EQ(ReadAll(dir.path() + "/one"), "old");
+  std::vector<std::string> entries = dir.Entries();
+  std::sort(entries.begin(), entries.end());
+  EXPECT_EQ(entries, (std::vector<std::string>{"one", "three"}));  // no "two", no temporary
+}
+
+TEST(AtomicFile, WriteFilesRemovesTheDirectoriesItCreatedOnFailure) {
+  TempDirectory dir;
+  std::string error;
+  // The second name points into a directory that does not exist: its temporary cannot be
+  // created, after the first file was staged and two directories were made.
+  EXPECT_FALSE(WriteFilesAtomically(dir.path() + "/x/y", {{"one", "1"}, {"missing/two", "2"}},
+                                    false, &error));
+  EXPECT_NE(error.find("missing/two: cannot create a temporary file"), std::string::npos)
+      << error;
+  EXPECT_NE(error.find("(nothing was written)"), std::string::npos) << error;
+  EXPECT_TRUE(dir.Entries().empty());
+}
+
+TEST(AtomicFile, WriteFilesRefusesExistingFilesWithoutOverwrite) {
+  TempDirectory dir;
+  std::ofstream(dir.path() + "/two") << "keep";
+  std::string error;
+  EXPECT_FALSE(WriteFilesAtomically(dir.path(), {{"one", "1"}, {"two", "2"}}, false, &error));
+  EXPECT_EQ(error, dir.path() + "/two: already exists (nothing was written)");
+  EXPECT_EQ(dir.Entries(), std::vector<std::string>{"two"});
+  EXPECT_EQ(ReadAll(dir.path() + "/two"), "keep");
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace ringlet {
 
@@ -19,14 +21,38 @@ inline constexpr std::uint64_t kMaxHairFileBytes = std::uint64_t{1} << 30;
 /// Writes contents to path through a temporary file in the same directory (created with the
 /// usual permissions, 0666 minus the umask), flushed to disk and then renamed over path, so
 /// that path never holds partial contents. When overwrite is false an existing path is an error
-/// and is left untouched (the check and the final link are one atomic step where the file system
-/// supports hard links). When overwrite is true only a regular file is replaced: a directory, a
-/// symbolic link (even to a regular file), a device, a FIFO or a socket at path is an error and
-/// is left untouched. Every write, flush and close error is an error. On failure the temporary file
+/// and is left untouched (the check and the final rename are one atomic step: renameat2 with
+/// RENAME_NOREPLACE, or link() where that flag is not supported). When overwrite is true only a
+/// regular file is replaced: a directory, a symbolic link (even to a regular file), a device, a
+/// FIFO or a socket at path is an error and is left untouched (also when it appears between the
+/// check and the rename: the names are exchanged with RENAME_EXCHANGE and swapped back if what
+/// was at path is not a regular file; file systems without the flag fall back to check, then
+/// rename). The temporary is removed on SIGINT / SIGTERM (RemoveTemporariesOnSignals). Every write, flush and close error is an error. On failure the temporary file
 /// is removed, *error receives one line starting with the path and the function returns false.
 /// Never throws.
 bool WriteFileAtomically(const std::string& path, const std::string& contents, bool overwrite,
                          std::string* error);
+
+/// Writes several files into directory as one output (a groom's strands.hair, strands.usda,
+/// ...): the missing directories are created, then every file is written in full to a
+/// temporary next to its final name (flushed), and only when all are written are they renamed
+/// into place, one after another. A failure while writing (a disk full, a bad path) removes
+/// every temporary and the directories it created, leaves every file the user had untouched,
+/// and *error says "... (nothing was written)". A failure while renaming (a race with another
+/// process, an I/O error: no data is written any more then) removes the remaining temporaries
+/// and *error names the files written and the ones not written. Names are plain file names.
+/// overwrite as for WriteFileAtomically. Never throws.
+bool WriteFilesAtomically(const std::string& directory,
+                          const std::vector<std::pair<std::string, std::string>>& files,
+                          bool overwrite, std::string* error);
+
+/// Installs SIGINT and SIGTERM handlers that remove the temporary files WriteFileAtomically and
+/// WriteFilesAtomically are writing at that moment (and the directories WriteFilesAtomically
+/// created, when still empty), then end the process by the same signal (exit status 128 +
+/// signal in a shell). The handler is async-signal-safe (a fixed table of paths, unlink, rmdir,
+/// raise). For front ends: call once at start (the `ringlet` command does); signals that were
+/// ignored when it is called (nohup) stay ignored. Calling it again does nothing.
+void RemoveTemporariesOnSignals();
 
 /// The checks WriteFileAtomically makes before writing to path, for front ends that check their
 /// outputs before any work: false with one line in *error when path is a directory, exists and

@@ -164,6 +164,10 @@ class TriangleMesh {
 /// 1-based as in the file); on failure *meshes is untouched. Never throws.
 bool LoadObjMeshes(const std::string& path, std::vector<TriangleMesh>* meshes, std::string* error);
 
+/// LoadObjMeshes on OBJ text already in memory (at most kMaxObjFileBytes, atomic_file.h): the
+/// same checks and messages, without the file name (the fuzz harnesses' entry point).
+bool ParseObjMeshes(std::string_view text, std::vector<TriangleMesh>* meshes, std::string* error);
+
 namespace internal {
 class DistanceGrid;
 }  // namespace internal

@@ -35,6 +35,12 @@ inline constexpr double kDefaultGridBand = 0.03;
 bool ParseBody(const nlohmann::json& document, std::string_view path,
                const std::string& base_directory, Body* body, std::string* error);
 
+/// Parses the text of a standalone body file (JSON syntax errors with line and column, then
+/// ParseBody at the top level); OBJ paths are relative to base_directory. Messages carry no
+/// file name. Never throws.
+bool ParseBodyText(const std::string& text, const std::string& base_directory, Body* body,
+                   std::string* error);
+
 /// Reads a standalone body file (the object above at the top level); OBJ paths are relative
 /// to the file's directory. Every message starts with the file's path ("bodies/m.json: line 3,
 /// column 14: invalid JSON: ...", "bodies/m.json: spheres[0].radius: ..."). Never throws.

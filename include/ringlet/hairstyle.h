@@ -43,6 +43,12 @@ int HullLayerOf(const HullLayers& layers, double polar_angle, double max_polar_a
 /// equilibrium; "check_stability": false in the file turns it off).
 SolveOptions GroomSolveOptions();
 
+/// Most points of the generated strands, masters.count x wisps.strands_per_wisp x
+/// wisps.points_per_strand: 2^28 (268 million; 80 times the 100,000-strand example). The
+/// strands take 28 bytes per point (position, width, major axis: 7.5 GB at the limit) and the
+/// text exports ~40 more per point each; HairCurves' int counts would allow 2^31 - 1.
+inline constexpr long long kMaxHairPoints = 1LL << 28;
+
 /// Everything that defines a hairstyle; immutable once built (ParseHairstyle, or by hand).
 struct Hairstyle {
   /// The body the hair collides with (spheres and meshes). Required.

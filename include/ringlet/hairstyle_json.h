@@ -31,6 +31,15 @@ bool ParseStyleOperations(const nlohmann::json& document, std::vector<StyleOpera
 /// Syntax errors give line and column; every message starts with the path. Never throws.
 bool LoadHairstyle(const std::string& path, Hairstyle* style, std::string* error);
 
+/// Parses hairstyle text (a whole file's contents, e.g. a studio session saved by Save): JSON
+/// syntax errors with line and column, then ParseHairstyle and ParseStyleOperations (operations
+/// may be null). Relative paths are relative to base_directory. Messages carry no file name.
+/// Nothing is written on failure. Never throws. (LoadHairstyle reads the file and calls this;
+/// the fuzz harness calls it directly.)
+bool ParseHairstyleText(const std::string& text, const std::string& base_directory,
+                        Hairstyle* style, std::vector<StyleOperation>* operations,
+                        std::string* error);
+
 /// LoadHairstyle that also returns the file's operations (ParseStyleOperations); operations may
 /// be null. Nothing is written on failure.
 bool LoadHairstyle(const std::string& path, Hairstyle* style,

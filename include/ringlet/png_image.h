@@ -14,6 +14,10 @@ namespace ringlet {
 bool WritePng(const std::string& path, const Image& image, double exposure, bool overwrite,
               std::string* error);
 
+/// The bytes of the PNG file WritePng writes, for writing with other files at once
+/// (WriteFilesAtomically). Returns false with a one-line message (no path).
+bool EncodePng(const Image& image, double exposure, std::string* png, std::string* error);
+
 /// Reads an 8-bit RGB or RGBA PNG into linear values (the inverse sRGB transfer function;
 /// alpha dropped). Returns false with a one-line message naming the file.
 bool ReadPng(const std::string& path, Image* image, std::string* error);

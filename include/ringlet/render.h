@@ -116,6 +116,21 @@ struct RenderOptions {
   std::function<void(long, long)> progress;
 };
 
+/// Most pixels of an image, width x height: 2^26 (8192 x 8192). The image takes 12 bytes per
+/// pixel (float RGB, 805 MB at the limit) plus 3 per pixel for the 8-bit PNG rows.
+inline constexpr std::int64_t kMaxRenderPixels = std::int64_t{1} << 26;
+/// Most camera samples of a render, width x height x samples_per_pixel: 2^30 (e.g. 2048 x 2048
+/// at 256 spp). At the ~0.4 million camera samples per second measured on 2 cores for a full
+/// head (docs/benchmarks.md, path traced with bounces) that is about 45 minutes.
+inline constexpr std::int64_t kMaxRenderSamples = std::int64_t{1} << 30;
+
+/// Checks the products of the image size and sampling against kMaxRenderPixels and
+/// kMaxRenderSamples (the sides and the samples per pixel are each >= 1); false with one line
+/// naming the fields ("width x height x samples_per_pixel = ... camera samples, more than the
+/// limit of 2^30"). Called by Render, the render settings reader and the commands before any
+/// work.
+bool CheckRenderSize(int width, int height, int samples_per_pixel, std::string* why);
+
 /// What a render did, for summaries: nothing numerical is hidden.
 struct RenderStats {
   double seconds = 0.0;              ///< wall time of the whole call (s)

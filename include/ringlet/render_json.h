@@ -72,6 +72,12 @@ bool ParseRenderSettings(const nlohmann::json& object, const std::string& path,
 bool ParseRenderMember(const nlohmann::json& document, RenderSettings* settings, std::string* error,
                        bool required = false);
 
+/// Parses the text of a document (a hairstyle or settings file) and its "render" member
+/// (ParseRenderMember, required or not). Syntax errors give line and column; messages carry no
+/// file name. Never throws.
+bool ParseRenderSettingsText(const std::string& text, RenderSettings* settings,
+                             std::string* error, bool required = false);
+
 /// Reads the file at path and parses its "render" member (ParseRenderMember, required or not).
 /// Syntax errors give line and column; every message starts with the path. Never throws.
 bool LoadRenderSettings(const std::string& path, RenderSettings* settings, std::string* error,

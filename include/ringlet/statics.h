@@ -23,6 +23,19 @@ enum class Method {
   kAuto,
 };
 
+/// Most segments of a strand solved with Method::kBfgs: its dense 3n x 3n inverse Hessian takes
+/// 72 n^2 bytes (72 MB at 1000 segments) per strand being solved, and each iteration costs
+/// O(n^2). L-BFGS, Newton and auto are O(n) in memory and per iteration (up to kMaxSegments).
+inline constexpr int kMaxBfgsSegments = 1000;
+/// Most segments one command solves in all (a scene's strands; a hairstyle's masters, plus its
+/// children when they are solved): 10^7, about 0.1 ms each of CPU time at most for the
+/// examples (~20 min on one core) and about 1 KB each while solving (docs/robustness.md).
+inline constexpr long kMaxTotalSegments = 10000000;
+
+/// Checks that a strand of `segments` segments may be solved with `method` (kMaxBfgsSegments
+/// for kBfgs, kMaxSegments otherwise); false with one line naming the limit.
+bool CheckMethodSegments(int segments, Method method, std::string* why);
+
 /// Why the minimizer stopped.
 enum class Termination {
   kConverged,         ///< the equilibrium residual fell below the tolerance

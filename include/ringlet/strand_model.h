@@ -129,8 +129,19 @@ bool RootFrameFromTangentNormal(const Vec3& tangent, const Vec3& normal, Mat3* f
 /// Largest segment count a model may have; more is almost certainly a mistake in the input.
 inline constexpr int kMaxSegments = 100000;
 
+/// sum_i |(kappa1^0, kappa2^0, tau^0)_i| l_i (rad): the angle the natural (rest) shape turns
+/// through, per segment when rest_curvatures is set.
+double NaturalTurning(const StrandModel& model);
+
+/// Largest total natural turning |(kappa1^0, kappa2^0, tau^0)| L of a strand (rad): 10^5 rad,
+/// about 16,000 turns of its natural helix (the tightest human curl, R ~ 2 mm on a 1-m strand, is
+/// ~500 rad). The work of the Kirchhoff certificate (kirchhoff.h) grows with the turning (its
+/// quadrature pieces turn by at most 1 rad), so this bounds it at ~10^5 pieces per strand on
+/// top of 1 per segment (docs/robustness.md).
+inline constexpr double kMaxNaturalTurning = 1e5;
+
 /// Checks every field (finite, positive lengths, valid section and material, proper rotation,
-/// rest_curvatures of size 0 or 3n and finite, ...).
+/// rest_curvatures of size 0 or 3n and finite, natural turning within kMaxNaturalTurning, ...).
 bool IsValid(const StrandModel& model, std::string* why);
 
 }  // namespace ringlet

@@ -68,6 +68,29 @@ bool Hairstyle::IsValid(std::string* why) const {
   }
   if (!solver.IsValid(&reason)) return Fail(why, "solver: " + reason);
   if (!gravity.allFinite()) return Fail(why, "gravity: expected 3 finite numbers (m/s^2)");
+  // Limits on the products that drive work and memory (docs/robustness.md), from the requested
+  // master count (an upper bound of the masters placed), before any root is sampled.
+  if (!CheckMethodSegments(segments, solver.method, &reason)) {
+    return Fail(why, "masters.segments: " + reason + " (solver.method)");
+  }
+  const double masters = roots.count;
+  const double solved_per_master = solve_children ? 1.0 + wisps.strands_per_wisp : 1.0;
+  const double solved_segments = masters * solved_per_master * segments;
+  if (solved_segments > static_cast<double>(kMaxTotalSegments)) {
+    return Fail(why, std::string(solve_children ? "masters.count x (1 + wisps.strands_per_wisp)"
+                                                : "masters.count") +
+                         " x masters.segments = " + std::to_string(static_cast<long long>(
+                                                        solved_segments)) +
+                         " segments to solve, more than the limit of " +
+                         std::to_string(kMaxTotalSegments));
+  }
+  const double points = masters * wisps.strands_per_wisp * wisps.points_per_strand;
+  if (points > static_cast<double>(kMaxHairPoints)) {
+    return Fail(why, "masters.count x wisps.strands_per_wisp x wisps.points_per_strand = " +
+                         std::to_string(static_cast<long long>(points)) +
+                         " points, more than the limit of 2^28 = " +
+                         std::to_string(kMaxHairPoints));
+  }
   return true;
 }
 

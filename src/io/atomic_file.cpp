@@ -6,12 +6,16 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <random>
+#include <utility>
+#include <vector>
 
 namespace ringlet {
 namespace {
@@ -58,9 +62,82 @@ bool WriteAll(int fd, const std::string& data, int* error_number) {
   return true;
 }
 
+// ---- Temporaries removed on SIGINT / SIGTERM (RemoveTemporariesOnSignals) ----
+//
+// A fixed table, so that the signal handler touches no heap and no lock: each slot holds a
+// path and an atomic state. Registering writes the path while the slot is kBusy and publishes
+// it with kFile / kDirectory; the handler only reads published slots. std::atomic<int> is
+// lock-free on every platform ringlet builds on, hence async-signal-safe.
+constexpr int kCleanupSlots = 256;
+constexpr size_t kCleanupPathBytes = 4096;
+enum SlotState : int { kFree = 0, kBusy = 1, kFile = 2, kDirectory = 3 };
+struct CleanupSlot {
+  std::atomic<int> state{kFree};
+  char path[kCleanupPathBytes];
+};
+CleanupSlot g_cleanup[kCleanupSlots];
+static_assert(std::atomic<int>::is_always_lock_free);
+
+// Registers path for removal by the signal handler; returns the slot, or -1 when the table is
+// full or the path too long (the file is then not removed on a signal: best effort).
+int RegisterCleanup(const std::string& path, SlotState kind) {
+  if (path.size() + 1 > kCleanupPathBytes) return -1;
+  for (int i = 0; i < kCleanupSlots; ++i) {
+    int expected = kFree;
+    if (g_cleanup[i].state.compare_exchange_strong(expected, kBusy)) {
+      std::memcpy(g_cleanup[i].path, path.c_str(), path.size() + 1);
+      g_cleanup[i].state.store(kind);
+      return i;
+    }
+  }
+  return -1;
+}
+
+void UnregisterCleanup(int slot) {
+  if (slot < 0) return;
+  g_cleanup[slot].state.store(kBusy);
+  g_cleanup[slot].state.store(kFree);
+}
+
+extern "C" void RemoveTemporariesAndReraise(int signal_number) {
+  // Files first, then the directories created for them (deepest were registered last).
+  // Only regular files: for the instant of a RENAME_EXCHANGE (Commit) a temporary name can
+  // hold what was at the output path, which is swapped back when it is not a regular file.
+  for (int i = 0; i < kCleanupSlots; ++i) {
+    struct stat info;
+    if (g_cleanup[i].state.load() == kFile && ::lstat(g_cleanup[i].path, &info) == 0 &&
+        S_ISREG(info.st_mode)) {
+      ::unlink(g_cleanup[i].path);
+    }
+  }
+  for (int i = kCleanupSlots - 1; i >= 0; --i) {
+    if (g_cleanup[i].state.load() == kDirectory) ::rmdir(g_cleanup[i].path);  // only if empty
+  }
+  // End the process as the signal would have (exit status 128 + signal in a shell).
+  ::signal(signal_number, SIG_DFL);
+  ::raise(signal_number);
+}
+
+// A temporary file written in full, not yet in place.
+struct Staged {
+  std::string path;       // where it goes
+  std::string temporary;  // where it is
+  int slot = -1;          // its cleanup registration
+};
+
+// Removes a staged temporary (after a failure) and its registration.
+void Discard(Staged* staged) {
+  if (!staged->temporary.empty()) ::unlink(staged->temporary.c_str());
+  UnregisterCleanup(staged->slot);
+  staged->slot = -1;
+  staged->temporary.clear();
+}
+
 // Creates a new temporary file next to path: "<dir>/.<name>.tmp-<random>", opened for writing
-// with O_EXCL (never an existing file) and mode 0666 minus the umask, like any new file.
-int CreateTemporary(const std::string& path, std::string* temporary, int* error_number) {
+// with O_EXCL (never an existing file) and mode 0666 minus the umask, like any new file. The
+// name is registered for removal on SIGINT / SIGTERM before the file exists, so that no
+// interrupt can leave it behind.
+int CreateTemporary(const std::string& path, Staged* staged, int* error_number) {
   const std::string prefix = DirectoryOf(path) + "/." + BaseNameOf(path) + ".tmp-";
   // Seeded from the clock and the process id (std::random_device may throw): O_EXCL, not the
   // quality of the numbers, is what makes the name safe.
@@ -70,9 +147,17 @@ int CreateTemporary(const std::string& path, std::string* temporary, int* error_
   for (int attempt = 0; attempt < kTemporaryNameAttempts; ++attempt) {
     char suffix[17];
     std::snprintf(suffix, sizeof(suffix), "%016llx", static_cast<unsigned long long>(rng()));
-    *temporary = prefix + suffix;
-    const int fd = ::open(temporary->c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd >= 0) return fd;
+    const std::string temporary = prefix + suffix;
+    const int slot = RegisterCleanup(temporary, kFile);
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      staged->temporary = temporary;
+      staged->slot = slot;
+      return fd;
+    }
+    const int open_errno = errno;
+    UnregisterCleanup(slot);
+    errno = open_errno;
     if (errno != EEXIST) break;
   }
   *error_number = errno;
@@ -100,7 +185,142 @@ std::string FileKind(mode_t mode) {
   return "a special file";
 }
 
+// Writes contents to a new temporary next to path, flushed and closed. On failure nothing is
+// left and *error names path.
+bool Stage(const std::string& path, const std::string& contents, Staged* staged,
+           std::string* error) {
+  staged->path = path;
+  int error_number = 0;
+  const int fd = CreateTemporary(path, staged, &error_number);
+  if (fd < 0) {
+    return Fail(error, path, "cannot create a temporary file in " + DirectoryOf(path),
+                error_number);
+  }
+  auto abandon = [&](const std::string& what, int number) {
+    Discard(staged);
+    return Fail(error, path, what, number);
+  };
+  if (!WriteAll(fd, contents, &error_number)) {
+    ::close(fd);
+    return abandon("cannot write", error_number);
+  }
+  if (::fsync(fd) != 0) {
+    error_number = errno;
+    ::close(fd);
+    return abandon("cannot flush to disk", error_number);
+  }
+  if (::close(fd) != 0) return abandon("cannot close", errno);
+  return true;
+}
+
+// Whether renameat2's flags are refused by this kernel or file system (then the plain calls
+// are used).
+bool FlagsUnsupported(int error_number) {
+  return error_number == EINVAL || error_number == ENOSYS || error_number == ENOTSUP ||
+         error_number == EOPNOTSUPP;
+}
+
+// Puts a staged file in place. With overwrite, only a regular file is replaced, and that test
+// and the replacement are one step where the file system can exchange names (renameat2 with
+// RENAME_EXCHANGE: the new file and whatever is at path swap names; if what came back is not a
+// regular file it is swapped back, untouched). Without overwrite, RENAME_NOREPLACE (or link())
+// refuses an existing path atomically. On failure the temporary is removed.
+bool Commit(Staged* staged, bool overwrite, std::string* error) {
+  const char* temporary = staged->temporary.c_str();
+  const char* path = staged->path.c_str();
+  auto abandon = [&](const std::string& what, int number) {
+    Discard(staged);
+    return Fail(error, staged->path, what, number);
+  };
+  auto exists = [&]() {
+    Discard(staged);
+    if (error) *error = staged->path + ": already exists";
+    return false;
+  };
+  if (overwrite) {
+    if (::renameat2(AT_FDCWD, temporary, AT_FDCWD, path, RENAME_EXCHANGE) == 0) {
+      // The old file is now at the temporary name: check what it was.
+      struct stat old;
+      if (::lstat(temporary, &old) == 0 && !S_ISREG(old.st_mode)) {
+        const int swapped_back = ::renameat2(AT_FDCWD, temporary, AT_FDCWD, path, RENAME_EXCHANGE);
+        if (swapped_back == 0) Discard(staged);  // the temporary name holds our file again
+        if (error) {
+          *error = staged->path + ": exists and is " + FileKind(old.st_mode) +
+                   "; only a regular file may be replaced";
+        }
+        return false;
+      }
+      ::unlink(temporary);  // the replaced regular file
+      UnregisterCleanup(staged->slot);
+      staged->slot = -1;
+      return true;
+    }
+    const int exchange_errno = errno;
+    if (exchange_errno != ENOENT && !FlagsUnsupported(exchange_errno)) {
+      return abandon("cannot rename", exchange_errno);
+    }
+    if (FlagsUnsupported(exchange_errno)) {
+      // No exchange here: check, then rename (a node appearing in between is replaced; see
+      // docs/robustness.md).
+      if (!CheckReplaceable(staged->path, true, error)) {
+        Discard(staged);
+        return false;
+      }
+      if (::rename(temporary, path) != 0) return abandon("cannot rename", errno);
+      UnregisterCleanup(staged->slot);
+      staged->slot = -1;
+      return true;
+    }
+    // ENOENT: nothing at path (any more): fall through to the no-replace rename.
+  }
+  if (::renameat2(AT_FDCWD, temporary, AT_FDCWD, path, RENAME_NOREPLACE) == 0) {
+    UnregisterCleanup(staged->slot);
+    staged->slot = -1;
+    return true;
+  }
+  if (errno == EEXIST) {
+    // With overwrite this is a node that appeared after the exchange found none: not replaced.
+    return exists();
+  }
+  if (!FlagsUnsupported(errno)) return abandon("cannot rename", errno);
+  // link() fails with EEXIST if path appeared meanwhile: the check and the write are one step.
+  if (::link(temporary, path) == 0) {
+    Discard(staged);
+    return true;
+  }
+  if (errno == EEXIST) return exists();
+  if (errno == EPERM || errno == ENOTSUP || errno == EOPNOTSUPP || errno == ENOSYS ||
+      errno == EMLINK) {
+    // No hard links on this file system either: check, then rename.
+    if (::access(path, F_OK) == 0) return exists();
+    if (::rename(temporary, path) != 0) return abandon("cannot rename", errno);
+    UnregisterCleanup(staged->slot);
+    staged->slot = -1;
+    return true;
+  }
+  return abandon("cannot create", errno);
+}
+
 }  // namespace
+
+void RemoveTemporariesOnSignals() {
+  static std::atomic<bool> installed{false};
+  if (installed.exchange(true)) return;
+  struct sigaction action {};
+  action.sa_handler = RemoveTemporariesAndReraise;
+  sigemptyset(&action.sa_mask);
+  sigaddset(&action.sa_mask, SIGINT);
+  sigaddset(&action.sa_mask, SIGTERM);
+  action.sa_flags = SA_RESETHAND;
+  for (int signal_number : {SIGINT, SIGTERM}) {
+    // A signal the caller's parent set to be ignored (nohup, background jobs) stays ignored.
+    struct sigaction previous {};
+    if (::sigaction(signal_number, nullptr, &previous) == 0 && previous.sa_handler == SIG_IGN) {
+      continue;
+    }
+    ::sigaction(signal_number, &action, nullptr);
+  }
+}
 
 bool CheckReplaceable(const std::string& path, bool overwrite, std::string* error) {
   // lstat: a symbolic link is judged as itself (rename would replace the link, not its target).
@@ -133,54 +353,89 @@ bool WriteFileAtomically(const std::string& path, const std::string& contents, b
   }
   // Refuse early what the final step would refuse, with a clearer message.
   if (!CheckReplaceable(path, overwrite, error)) return false;
+  Staged staged;
+  if (!Stage(path, contents, &staged, error) || !Commit(&staged, overwrite, error)) return false;
+  SyncDirectory(path);
+  return true;
+}
 
-  std::string temporary;
-  int error_number = 0;
-  const int fd = CreateTemporary(path, &temporary, &error_number);
-  if (fd < 0) {
-    return Fail(error, path, "cannot create a temporary file in " + DirectoryOf(path),
-                error_number);
+bool WriteFilesAtomically(const std::string& directory,
+                          const std::vector<std::pair<std::string, std::string>>& files,
+                          bool overwrite, std::string* error) {
+  if (directory.empty()) {
+    if (error) *error = "(empty path): cannot write into a directory without a name";
+    return false;
   }
-  // From here on, every failure removes the temporary file.
-  auto abandon = [&](const std::string& what, int number) {
-    ::unlink(temporary.c_str());
-    return Fail(error, path, what, number);
+  // The directories to create, outermost first; each is registered for removal on a signal
+  // and removed again on failure (if still empty).
+  std::vector<std::string> missing;
+  for (std::string d = directory; !d.empty() && d != "/" && d != ".";) {
+    struct stat info;
+    if (::stat(d.c_str(), &info) == 0) break;
+    missing.push_back(d);
+    const size_t slash = d.find_last_of('/');
+    if (slash == std::string::npos) break;
+    d = d.substr(0, slash);
+  }
+  std::vector<int> directory_slots;
+  std::vector<std::string> created;
+  std::vector<Staged> staged;
+  auto roll_back = [&]() {
+    for (Staged& s : staged) Discard(&s);
+    for (auto it = created.rbegin(); it != created.rend(); ++it) ::rmdir(it->c_str());
+    for (int slot : directory_slots) UnregisterCleanup(slot);
   };
-  if (!WriteAll(fd, contents, &error_number)) {
-    ::close(fd);
-    return abandon("cannot write", error_number);
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    directory_slots.push_back(RegisterCleanup(*it, kDirectory));
+    if (::mkdir(it->c_str(), 0777) != 0) {
+      const int error_number = errno;
+      UnregisterCleanup(directory_slots.back());  // not ours to remove
+      directory_slots.pop_back();
+      if (error_number == EEXIST) continue;  // made by someone else meanwhile
+      roll_back();
+      return Fail(error, *it, "cannot create the directory", error_number);
+    }
+    created.push_back(*it);
   }
-  if (::fsync(fd) != 0) {
-    error_number = errno;
-    ::close(fd);
-    return abandon("cannot flush to disk", error_number);
-  }
-  if (::close(fd) != 0) return abandon("cannot close", errno);
-
-  if (overwrite) {
-    if (::rename(temporary.c_str(), path.c_str()) != 0) return abandon("cannot rename", errno);
-  } else {
-    // link() fails with EEXIST if path appeared meanwhile: the check and the write are one step.
-    if (::link(temporary.c_str(), path.c_str()) == 0) {
-      ::unlink(temporary.c_str());
-    } else if (errno == EEXIST) {
-      ::unlink(temporary.c_str());
-      if (error) *error = path + ": already exists";
+  // 1. Every file in full to its temporary: a failure (disk full, a bad path) rolls everything
+  // back, and nothing the user had is touched.
+  for (const auto& [name, contents] : files) {
+    const std::string path = directory + "/" + name;
+    if (!CheckReplaceable(path, overwrite, error)) {
+      roll_back();
+      if (error) *error += " (nothing was written)";
       return false;
-    } else if (errno == EPERM || errno == ENOTSUP || errno == EOPNOTSUPP || errno == ENOSYS ||
-               errno == EMLINK) {
-      // No hard links on this file system: fall back to check-then-rename.
-      if (::access(path.c_str(), F_OK) == 0) {
-        ::unlink(temporary.c_str());
-        if (error) *error = path + ": already exists";
-        return false;
-      }
-      if (::rename(temporary.c_str(), path.c_str()) != 0) return abandon("cannot rename", errno);
-    } else {
-      return abandon("cannot create", errno);
+    }
+    staged.emplace_back();
+    if (!Stage(path, contents, &staged.back(), error)) {
+      staged.pop_back();
+      roll_back();
+      if (error) *error += " (nothing was written)";
+      return false;
     }
   }
-  SyncDirectory(path);
+  // 2. Into place, one rename each (no data is written any more: only a race with another
+  // process or an I/O error can stop this half-way, and then the message says which files are
+  // new and which are missing).
+  for (size_t k = 0; k < staged.size(); ++k) {
+    std::string why;
+    if (!Commit(&staged[k], overwrite, &why)) {
+      std::string done, missing_names;
+      for (size_t j = 0; j < staged.size(); ++j) {
+        std::string& list = j < k ? done : missing_names;
+        list += (list.empty() ? "" : ", ") + BaseNameOf(staged[j].path);
+      }
+      for (size_t j = k + 1; j < staged.size(); ++j) Discard(&staged[j]);
+      for (int slot : directory_slots) UnregisterCleanup(slot);
+      if (error) {
+        *error = why + "; written: " + (done.empty() ? "none" : done) + "; not written: " +
+                 missing_names;
+      }
+      return false;
+    }
+  }
+  for (int slot : directory_slots) UnregisterCleanup(slot);
+  SyncDirectory(directory + "/.");
   return true;
 }
 

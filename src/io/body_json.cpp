@@ -210,18 +210,20 @@ bool ParseBody(const nlohmann::json& document, std::string_view path,
 bool LoadBody(const std::string& path, Body* body, std::string* error) {
   std::string text;
   if (!ReadFile(path, &text, error)) return false;
-  json document;
   std::string why;
-  if (!internal::ParseJsonText(text, &document, &why)) {
-    if (error) *error = path + ": " + why;
-    return false;
-  }
   const std::string directory = std::filesystem::path(path).parent_path().string();
-  if (!ParseBody(document, "", directory, body, &why)) {
+  if (!ParseBodyText(text, directory, body, &why)) {
     if (error) *error = path + ": " + why;
     return false;
   }
   return true;
+}
+
+bool ParseBodyText(const std::string& text, const std::string& base_directory, Body* body,
+                   std::string* error) {
+  json document;
+  return internal::ParseJsonText(text, &document, error) &&
+         ParseBody(document, "", base_directory, body, error);
 }
 
 }  // namespace ringlet

@@ -655,14 +655,23 @@ bool LoadHairstyle(const std::string& path, Hairstyle* style,
                    std::vector<StyleOperation>* operations, std::string* error) {
   std::string text, why;
   if (!ReadFile(path, &text, error)) return false;
-  json document;
   const std::string base = std::filesystem::path(path).parent_path().string();
+  if (!ParseHairstyleText(text, base.empty() ? "." : base, style, operations, &why)) {
+    if (error) *error = path + ": " + why;
+    return false;
+  }
+  return true;
+}
+
+bool ParseHairstyleText(const std::string& text, const std::string& base_directory,
+                        Hairstyle* style, std::vector<StyleOperation>* operations,
+                        std::string* error) {
+  json document;
   Hairstyle parsed;
   std::vector<StyleOperation> parsed_operations;
-  if (!internal::ParseJsonText(text, &document, &why) ||
-      !ParseHairstyle(document, base.empty() ? "." : base, &parsed, &why) ||
-      !ParseStyleOperations(document, &parsed_operations, &why)) {
-    if (error) *error = path + ": " + why;
+  if (!internal::ParseJsonText(text, &document, error) ||
+      !ParseHairstyle(document, base_directory, &parsed, error) ||
+      !ParseStyleOperations(document, &parsed_operations, error)) {
     return false;
   }
   *style = std::move(parsed);

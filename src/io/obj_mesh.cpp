@@ -185,12 +185,27 @@ bool CheckObjText(const std::string& text, std::string* error) {
 }  // namespace
 
 bool LoadObjMeshes(const std::string& path, std::vector<TriangleMesh>* meshes, std::string* error) {
-  auto fail = [&](const std::string& message) {
-    if (error) *error = path + ": " + message;
-    return false;
-  };
   std::string text;
   if (!ReadFile(path, &text, error, kMaxObjFileBytes)) return false;
+  std::string why;
+  if (!ParseObjMeshes(text, meshes, &why)) {
+    if (error) *error = path + ": " + why;
+    return false;
+  }
+  return true;
+}
+
+bool ParseObjMeshes(std::string_view text_view, std::vector<TriangleMesh>* meshes,
+                    std::string* error) {
+  auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (text_view.size() > kMaxObjFileBytes) {
+    return fail("is " + std::to_string(text_view.size()) + " bytes, more than the limit of " +
+                FormatBytes(kMaxObjFileBytes) + " for this kind of file");
+  }
+  const std::string text(text_view);
   std::string text_error;
   if (!CheckObjText(text, &text_error)) return fail(text_error);
 

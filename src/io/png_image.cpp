@@ -116,8 +116,17 @@ bool ReadRows(png_structp png, png_infop info, png_bytep* rows) {
 
 bool WritePng(const std::string& path, const Image& image, double exposure, bool overwrite,
               std::string* error) {
-  const auto fail = [&](const std::string& why) {
+  std::string bytes, why;
+  if (!EncodePng(image, exposure, &bytes, &why)) {
     if (error) *error = path + ": " + why;
+    return false;
+  }
+  return WriteFileAtomically(path, bytes, overwrite, error);
+}
+
+bool EncodePng(const Image& image, double exposure, std::string* png, std::string* error) {
+  const auto fail = [&](const std::string& why) {
+    if (error) *error = why;
     return false;
   };
   if (image.width < 1 || image.height < 1) {
@@ -148,7 +157,8 @@ bool WritePng(const std::string& path, const Image& image, double exposure, bool
     return fail(std::string("cannot encode PNG: ") +
                 (state.message[0] ? state.message : "libpng could not start"));
   }
-  return WriteFileAtomically(path, bytes, overwrite, error);
+  *png = std::move(bytes);
+  return true;
 }
 
 bool ReadPng(const std::string& path, Image* image, std::string* error) {

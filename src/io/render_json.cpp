@@ -226,6 +226,11 @@ bool ParseRenderObject(Reader& reader, const json& object, const std::string& pa
       !ReadRgb(reader, object, path, "body_albedo", 1.0, "reflectance", &settings.body_albedo)) {
     return false;
   }
+  // The products (pixels, camera samples), before anything is rendered (render.h).
+  std::string size_error;
+  if (!CheckRenderSize(options.width, options.height, options.samples_per_pixel, &size_error)) {
+    return reader.Fail(path, size_error);
+  }
   std::string shadows;
   bool present = false;
   const char* expected = "one of \"path_traced\", \"fibre_transmittance\"";
@@ -313,13 +318,18 @@ bool LoadRenderSettings(const std::string& path, RenderSettings* settings, std::
                         bool required) {
   std::string text, why;
   if (!ReadFile(path, &text, error)) return false;
-  json document;
-  if (!internal::ParseJsonText(text, &document, &why) ||
-      !ParseRenderMember(document, settings, &why, required)) {
+  if (!ParseRenderSettingsText(text, settings, &why, required)) {
     if (error) *error = path + ": " + why;
     return false;
   }
   return true;
+}
+
+bool ParseRenderSettingsText(const std::string& text, RenderSettings* settings,
+                             std::string* error, bool required) {
+  json document;
+  return internal::ParseJsonText(text, &document, error) &&
+         ParseRenderMember(document, settings, error, required);
 }
 
 }  // namespace ringlet

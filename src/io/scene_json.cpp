@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -134,15 +135,41 @@ bool ParseRestCurvatures(Reader& reader, const json& strand, const std::string& 
   model->rest_curvatures = std::move(values);
   return true;
 }
+// What the scene still allows: segments left of kMaxTotalSegments, and the method (whose
+// own limit, kMaxBfgsSegments for dense BFGS, holds per strand).
+struct SegmentBudget {
+  long remaining = kMaxTotalSegments;
+  Method method = Method::kAuto;
+};
 
 // The segment layout: explicit segment_lengths, or `segments` graded by `grading` (uniform by
 // default).
 bool ParseSegments(Reader& reader, const json& strand, const std::string& path, double length,
-                   StrandModel* model) {
+                   const SegmentBudget& budget, StrandModel* model) {
   int segments = kDefaultSegments;
   bool has_segments = false;
   if (!reader.ReadInteger(strand, path, "segments", 1, kMaxSegments, &segments, &has_segments)) {
     return false;
+  }
+  // The limits on products, before anything is allocated for the segments: the method's limit
+  // (dense BFGS) and the scene's total.
+  const auto explicit_lengths = strand.find("segment_lengths");
+  if (!has_segments && explicit_lengths != strand.end() && explicit_lengths->is_array() &&
+      !explicit_lengths->empty()) {
+    segments = static_cast<int>(std::min<size_t>(explicit_lengths->size(), kMaxSegments + 1));
+  }
+  const std::string segments_field =
+      Member(path, has_segments || explicit_lengths == strand.end() ? "segments"
+                                                                    : "segment_lengths");
+  std::string why;
+  if (segments <= kMaxSegments && !CheckMethodSegments(segments, budget.method, &why)) {
+    return reader.Fail(segments_field, why);
+  }
+  if (static_cast<long>(segments) > budget.remaining) {
+    return reader.Fail(segments_field,
+                       std::to_string(segments) + " more segments would take the scene beyond " +
+                           "its limit of " + std::to_string(kMaxTotalSegments) +
+                           " segments in all strands");
   }
   double grading = 1.0;
   bool has_grading = false;
@@ -218,7 +245,7 @@ bool ParseSegments(Reader& reader, const json& strand, const std::string& path, 
 }
 
 bool ParseStrand(Reader& reader, const json& strand, const std::string& path, const Vec3& gravity,
-                 StrandModel* out) {
+                 const SegmentBudget& budget, StrandModel* out) {
   if (!strand.is_object()) return reader.Expected(path, "a strand object", strand);
   if (!reader.CheckFields(strand, path,
                           {"length", "segments", "grading", "segment_lengths", "radius",
@@ -274,7 +301,17 @@ bool ParseStrand(Reader& reader, const json& strand, const std::string& path, co
   model.natural_curvature = Vec3(natural_curvature(0), natural_curvature(1), natural_twist);
 
   // Segment layout: uniform, graded (a ratio or "auto") or explicit lengths.
-  if (!ParseSegments(reader, strand, path, length, &model)) return false;
+  if (!ParseSegments(reader, strand, path, length, budget, &model)) return false;
+  // The natural turning bounds the Kirchhoff certificate's work (strand_model.h).
+  const double turning = model.natural_curvature.norm() * length;
+  if (!(turning <= kMaxNaturalTurning)) {
+    char number[32];
+    std::snprintf(number, sizeof(number), "%.6g", turning);  // "1e+06", "inf"
+    return reader.Fail(Member(path, "natural_curvature"),
+                       std::string("with natural_twist, turns the strand by ") + number +
+                           " rad over its length, more than the limit of 1e+05 rad (|(kappa1, "
+                           "kappa2, tau)| x length)");
+  }
 
   if (!ParseRoot(reader, strand, path, &model)) return false;
   if (!ParseRestCurvatures(reader, strand, path, &model)) return false;
@@ -305,14 +342,20 @@ bool ParseSceneDocument(Reader& reader, const json& document, Scene* out) {
     return reader.Expected("strands", expected, *strands);
   }
   Scene scene;
+  // The solver first: its method limits the segments of every strand.
+  if (!internal::ParseSolverObject(reader, document, "", &scene.solver)) return false;
+  SegmentBudget budget;
+  budget.method = scene.solver.method;
   // One model per strand as it is read, not strands->size() of them up front: a 64-MiB file of
   // "{}," would otherwise ask for 22 million models (~8 GB) before the first error.
   for (size_t i = 0; i < strands->size(); ++i) {
     StrandModel model;
-    if (!ParseStrand(reader, (*strands)[i], Element("strands", i), gravity, &model)) return false;
+    if (!ParseStrand(reader, (*strands)[i], Element("strands", i), gravity, budget, &model)) {
+      return false;
+    }
+    budget.remaining -= model.NumSegments();
     scene.strands.push_back(std::move(model));
   }
-  if (!internal::ParseSolverObject(reader, document, "", &scene.solver)) return false;
   *out = std::move(scene);
   return true;
 }

@@ -274,6 +274,8 @@ bool OutsideScene(const std::string& field, const Vector& p, std::string* why) {
   return false;
 }
 
+
+
 // Checks everything Render relies on; one line naming the field on failure.
 bool CheckInputs(const RenderScene& scene, const RenderOptions& options, PinholeCamera* camera,
                  std::string* why) {
@@ -284,6 +286,10 @@ bool CheckInputs(const RenderScene& scene, const RenderOptions& options, Pinhole
       !CheckInt(options.max_bounces, 0, 1 << 16, "options.max_bounces", why) ||
       !CheckInt(options.threads, 0, 1 << 12, "options.threads", why) ||
       !CheckInt(options.tile_size, 1, kMaxSide, "options.tile_size", why)) {
+    return false;
+  }
+  if (!CheckRenderSize(options.width, options.height, options.samples_per_pixel, why)) {
+    *why = "options: " + *why;
     return false;
   }
   if (!MakePinholeCamera(scene.camera, options.width, options.height, camera, why)) return false;
@@ -343,6 +349,30 @@ bool CheckInputs(const RenderScene& scene, const RenderOptions& options, Pinhole
 
 }  // namespace
 }  // namespace render
+
+bool CheckRenderSize(int width, int height, int samples_per_pixel, std::string* why) {
+  const std::int64_t pixels = std::int64_t{width} * height;
+  if (pixels > kMaxRenderPixels) {
+    if (why) {
+      *why = "width x height = " + std::to_string(width) + " x " + std::to_string(height) + " = " +
+             std::to_string(pixels) + " pixels, more than the limit of 2^26 = " +
+             std::to_string(kMaxRenderPixels) + " (e.g. 8192 x 8192)";
+    }
+    return false;
+  }
+  // pixels <= 2^26 and samples_per_pixel < 2^31: the product fits in 64 bits.
+  const std::int64_t samples = pixels * samples_per_pixel;
+  if (samples > kMaxRenderSamples) {
+    if (why) {
+      *why = "width x height x samples_per_pixel = " + std::to_string(width) + " x " +
+             std::to_string(height) + " x " + std::to_string(samples_per_pixel) + " = " +
+             std::to_string(samples) + " camera samples, more than the limit of 2^30 = " +
+             std::to_string(kMaxRenderSamples);
+    }
+    return false;
+  }
+  return true;
+}
 
 bool Render(const RenderScene& scene, const RenderOptions& options, Image* image,
             RenderStats* stats, std::string* error) {

@@ -95,6 +95,15 @@ bool RootFrameFromTangentNormal(const Vec3& tangent, const Vec3& normal, Mat3* f
   return true;
 }
 
+double NaturalTurning(const StrandModel& model) {
+  if (model.rest_curvatures.size() == 0) return model.natural_curvature.norm() * model.Length();
+  double turning = 0.0;
+  for (int i = 0; i < model.NumSegments() && 3 * i + 2 < model.rest_curvatures.size(); ++i) {
+    turning += model.rest_curvatures.segment<3>(3 * i).norm() * model.segment_lengths[i];
+  }
+  return turning;
+}
+
 bool IsValid(const StrandModel& model, std::string* why) {
   const int n = model.NumSegments();
   if (n < 1 || n > kMaxSegments) {
@@ -129,6 +138,14 @@ bool IsValid(const StrandModel& model, std::string* why) {
         return false;
       }
     }
+  }
+  if (!(NaturalTurning(model) <= kMaxNaturalTurning)) {
+    if (why) {
+      *why = "natural curvature and twist times length must be at most " +
+             std::to_string(static_cast<long>(kMaxNaturalTurning)) + " rad, got " +
+             std::to_string(NaturalTurning(model)) + " rad";
+    }
+    return false;
   }
   if (!model.root_position.allFinite()) {
     if (why) *why = "root position must be finite (m)";

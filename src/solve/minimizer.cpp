@@ -11,6 +11,11 @@
 namespace ringlet::internal {
 namespace {
 
+// Newton falls back to a dense finite-difference Hessian only up to this many unknowns (200
+// segments: 2.9 MB and 600 gradients per step); longer strands take a steepest-descent step
+// instead, so that no input makes Newton allocate O(n^2) (docs/robustness.md).
+constexpr int kMaxDenseNewtonUnknowns = 600;
+
 // Newton: eigenvalues of the Hessian are raised to at least this (relative to 1, the elastic
 // part in scaled variables) so that the step is a descent direction (N&W eq. 3.41).
 constexpr double kNewtonMinEigenvalue = 1e-6;
@@ -98,6 +103,10 @@ MinimizerResult Minimize(Objective& objective, VecX* x, const MinimizerOptions& 
     if (options.method == Method::kNewton) {
       if (objective.NewtonDirection(*x, g, &p)) {
         ++result.hessian_evaluations;
+      } else if (n > kMaxDenseNewtonUnknowns) {
+        // No dense matrix for a long strand (its n^2 doubles and n gradients per step):
+        // steepest descent for this step; the line search and the next step carry on.
+        p = -g;
       } else {
         result.evaluations += FiniteDifferenceHessian(objective, *x, &hessian);
         Eigen::SelfAdjointEigenSolver<MatX> eig(hessian);

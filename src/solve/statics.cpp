@@ -183,6 +183,19 @@ const char* TerminationName(Termination termination) {
   return "unknown";
 }
 
+bool CheckMethodSegments(int segments, Method method, std::string* why) {
+  const int limit = method == Method::kBfgs ? kMaxBfgsSegments : kMaxSegments;
+  if (segments <= limit) return true;
+  if (why) {
+    *why = std::to_string(segments) + " segments exceed the limit of " + std::to_string(limit) +
+           (method == Method::kBfgs
+                ? " for the method \"bfgs\" (its dense inverse Hessian takes 72 n^2 bytes); use "
+                  "\"lbfgs\", \"newton\" or \"auto\""
+                : "");
+  }
+  return false;
+}
+
 bool SolveOptions::IsValid(std::string* why) const {
   if (max_iterations < 1) {
     if (why) *why = "max_iterations must be >= 1";
