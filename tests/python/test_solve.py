@@ -40,7 +40,13 @@ def test_solve_matches_the_command_bit_for_bit(cli, tmp_path, scene):
             assert s.residual == ref["residual"]
             assert s.gradient_norm == ref["gradient_norm"]
             assert s.stable == ref["stable"]
-            assert s.min_eigenvalue == ref["min_eigenvalue"]
+            assert s.min_eigenvalue == ref["min_hessian_eigenvalue"]
+            assert s.evaluations == ref["evaluations"]
+            assert s.hessian_evaluations == ref["hessian_evaluations"]
+            assert s.stability_checked == ref["stability_checked"]
+            assert s.stability_restarts == ref["stability_restarts"]
+            assert s.contact.max_penetration == ref["max_penetration"]
+            assert s.contact.samples_in_contact == ref["contact_samples"]
             energy = ref["energy"]
             assert (s.energy.elastic, s.energy.gravity, s.energy.contact, s.energy.total) == (
                 energy["elastic"], energy["gravity"], energy["contact"], energy["total"])
@@ -68,7 +74,7 @@ def test_result_arrays_are_read_only_views_with_documented_shapes():
 def test_material_frames_are_rotations_tangent_to_the_centreline():
     """Independent check of the frames: orthonormal with det +1, the first is the scene's root
     frame, and the tangent column agrees with the centred difference of the points (error
-    (kappa h)^2 / 6 ~ 1e-6 here, h = l/64)."""
+    (kappa h)^2 / 6 ~ 5e-5 here: kappa < 100 1/m, h = l/64 = 0.2 m / 15 / 64)."""
     scene = ringlet.load_scene(str(EXAMPLES / "vertical_curly.json"))
     (r,) = ringlet.solve(scene, points_per_segment=64)
     q = r.material_frames
@@ -79,7 +85,10 @@ def test_material_frames_are_rotations_tangent_to_the_centreline():
     p = r.points
     chord = p[2:] - p[:-2]
     chord /= np.linalg.norm(chord, axis=1)[:, None]
-    assert np.abs(chord - q[1:-1, :, 2]).max() < 1e-4
+    # Inside segments only: at a segment end the difference straddles two helices of different
+    # curvature and its error is first order (|delta kappa| h), not (kappa h)^2 / 6.
+    inside = np.arange(1, len(p) - 1) % 64 != 0
+    assert np.abs(chord - q[1:-1, :, 2])[inside].max() < 1e-4
     # Anti-vacuity: the curl turns the tangent a lot along the strand.
     assert np.abs(q[:, :, 2] - q[0, :, 2]).max() > 0.5
 
