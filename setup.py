@@ -1,8 +1,10 @@
 """setuptools glue of `pip install .` (pyproject.toml): builds the extension ringlet._ringlet
 with the project's CMake (target ringlet_python, for the Python running pip) and installs it in
 the package python/ringlet. Environment: RINGLET_PIP_BUILD_DIR (default build-pip/ in the source
-tree), RINGLET_PIP_JOBS (parallel compile jobs, default 2)."""
+tree), RINGLET_PIP_JOBS (parallel compile jobs, default 2), RINGLET_PIP_CMAKE_ARGS (more CMake
+arguments, space-separated, e.g. "-DRINGLET_WARNINGS_AS_ERRORS=ON")."""
 import os
+import shlex
 import shutil
 import subprocess
 import sys
@@ -24,6 +26,7 @@ class CMakeBuild(build_ext):
             configure += ["-G", "Ninja"]
         if shutil.which("ccache"):
             configure.append("-DCMAKE_CXX_COMPILER_LAUNCHER=ccache")
+        configure += shlex.split(os.environ.get("RINGLET_PIP_CMAKE_ARGS", ""))
         subprocess.check_call(configure)
         subprocess.check_call(["cmake", "--build", build_dir, "--target", "ringlet_python",
                                "-j", os.environ.get("RINGLET_PIP_JOBS", "2")])
