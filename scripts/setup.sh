@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtinyobjloader-dev libtbb-dev libembree-dev libpng-dev
   python3-numpy python3-matplotlib
+  pybind11-dev python3-dev python3-pytest
   libglfw3-dev libimgui-dev libgl-dev libepoxy-dev
   xvfb xauth libgl1-mesa-dri
   clang-14 libclang-rt-14-dev

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -316,6 +317,26 @@ TEST(GroomHairstyle, BitIdenticalOnOneAndTwoThreads) {
   EXPECT_TRUE(
       SameBits(one.strands.widths.data(), two.strands.widths.data(), one.strands.widths.size()));
   EXPECT_EQ(one.summary.iterations, two.summary.iterations);
+}
+
+// BatchOptions::cancel set during the master solve (from the progress callback): the groom
+// stops with why = "cancelled" and leaves *groom untouched (no wisps grown from skipped masters).
+TEST(GroomHairstyle, CancelStopsWithCancelledAndLeavesTheGroomUntouched) {
+  const Hairstyle style = SmallStyle(20);
+  std::atomic<bool> cancel{false};
+  BatchOptions batch;
+  batch.threads = 1;
+  batch.cancel = &cancel;
+  batch.progress = [&cancel](int finished, int) {
+    if (finished == 2) cancel.store(true);
+  };
+  Groom groom;
+  groom.summary.masters = -7;  // a marker that must survive
+  std::string why;
+  EXPECT_FALSE(GroomHairstyle(style, batch, &groom, &why));
+  EXPECT_EQ(why, "cancelled");
+  EXPECT_EQ(groom.summary.masters, -7);
+  EXPECT_TRUE(groom.strands.points.empty());
 }
 
 TEST(GroomHairstyle, CountsAndConvergence) {

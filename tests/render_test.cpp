@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -217,6 +218,40 @@ TEST(RenderTest, WhiteFurnaceIsOneEverywhere) {
   EXPECT_NEAR(image_mean, 1.0, 4.0 * image_se) << "se " << image_se;
   EXPECT_LT(image_se, 0.01);
   std::printf("furnace: mean %.5f se %.5f\n", image_mean, image_se);
+}
+
+// RenderOptions::cancel: unset, the image is bit-identical to a render without it; set from the
+// progress callback after the first tile (one thread), Render fails with "cancelled" and leaves
+// the image untouched.
+TEST(RenderTest, CancelStopsBetweenTilesAndAnUnsetFlagChangesNothing) {
+  FurnaceScene furnace(1.0);
+  RenderOptions options;
+  options.width = 24;
+  options.height = 24;
+  options.samples_per_pixel = 2;
+  options.threads = 1;
+  options.tile_size = 8;
+  Image plain, with_flag;
+  std::string error;
+  ASSERT_TRUE(Render(furnace.scene, options, &plain, nullptr, &error)) << error;
+  std::atomic<bool> cancel{false};
+  options.cancel = &cancel;
+  ASSERT_TRUE(Render(furnace.scene, options, &with_flag, nullptr, &error)) << error;
+  ASSERT_EQ(plain.pixels.size(), with_flag.pixels.size());
+  EXPECT_EQ(std::memcmp(plain.pixels.data(), with_flag.pixels.data(),
+                        plain.pixels.size() * sizeof(plain.pixels[0])),
+            0);
+  long tiles_seen = 0;
+  options.progress = [&](long done, long) {
+    tiles_seen = done;
+    cancel.store(true);
+  };
+  Image untouched;
+  untouched.width = 3;
+  EXPECT_FALSE(Render(furnace.scene, options, &untouched, nullptr, &error));
+  EXPECT_EQ(error, "cancelled");
+  EXPECT_EQ(untouched.width, 3);
+  EXPECT_EQ(tiles_seen, 1);  // 9 tiles; the rest skipped
 }
 
 // The same furnace with a grey body (albedo 0.5): the body's pixels lose energy, so they are

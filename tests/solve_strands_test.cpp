@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include "test_util.h"
 
 namespace ringlet {
@@ -71,6 +73,51 @@ TEST(SolveStrands, UsesWarmStarts) {
       // Starting at the equilibrium: at most a couple of iterations to re-certify it.
       EXPECT_LE(warm[i].summary.iterations, 2) << i;
     }
+  }
+}
+
+// BatchOptions::cancel: an unset flag changes nothing (bit for bit); a flag set from the progress
+// callback after the third strand (one thread: strands run in order) skips every later strand,
+// whose solution is empty and says so; a flag set before the call skips all.
+TEST(SolveStrands, CancelSkipsTheStrandsNotYetStartedAndChangesNothingElse) {
+  const std::vector<StrandModel> models = MixedStrands();
+  BatchOptions plain;
+  plain.threads = 1;
+  const std::vector<StrandSolution> reference = SolveStrands(models, SolveOptions{}, plain);
+
+  std::atomic<bool> cancel{false};
+  BatchOptions unset = plain;
+  unset.cancel = &cancel;
+  const std::vector<StrandSolution> same = SolveStrands(models, SolveOptions{}, unset);
+  for (size_t i = 0; i < models.size(); ++i) {
+    EXPECT_EQ(same[i].curvatures, reference[i].curvatures) << i;
+    EXPECT_EQ(same[i].summary.iterations, reference[i].summary.iterations) << i;
+  }
+
+  BatchOptions late = unset;
+  late.progress = [&cancel](int finished, int) {
+    if (finished == 3) cancel.store(true);
+  };
+  const std::vector<StrandSolution> part = SolveStrands(models, SolveOptions{}, late);
+  ASSERT_EQ(part.size(), models.size());
+  for (size_t i = 0; i < models.size(); ++i) {
+    if (i < 3) {
+      EXPECT_EQ(part[i].curvatures, reference[i].curvatures) << i;
+    } else {
+      EXPECT_EQ(part[i].curvatures.size(), 0) << i;
+      EXPECT_EQ(part[i].summary.message, kCancelledMessage) << i;
+      EXPECT_EQ(part[i].summary.iterations, 0) << i;
+      EXPECT_FALSE(part[i].summary.Converged()) << i;
+    }
+  }
+
+  // Set before the call (any thread count): nothing is solved.
+  BatchOptions early;
+  early.threads = 2;
+  early.cancel = &cancel;
+  for (const StrandSolution& s : SolveStrands(models, SolveOptions{}, early)) {
+    EXPECT_EQ(s.curvatures.size(), 0);
+    EXPECT_EQ(s.summary.message, kCancelledMessage);
   }
 }
 

@@ -150,7 +150,8 @@ struct Groom {
 };
 
 /// Builds, solves (in parallel, BatchOptions) and grows the wisps of a hairstyle. The result
-/// does not depend on the thread count. Returns false (with why) only for invalid input;
+/// does not depend on the thread count. Returns false (with why) only for invalid input, or
+/// with why = "cancelled" when batch.cancel was set during a solve (*groom untouched);
 /// numerical trouble (unconverged or unstable masters) is counted in the summary.
 bool GroomHairstyle(const Hairstyle& style, const BatchOptions& batch, Groom* groom,
                     std::string* why);
@@ -170,7 +171,8 @@ inline constexpr double kChildNewtonLoad = 30.0;
 /// the master's curvatures, solved with style.solver in parallel (the certificate included) and
 /// sampled exactly at the child's point count, equally spaced in arc length (major axes from its
 /// own material frame). Counts go to summary's children_* fields. Deterministic on any thread
-/// count. Returns false only for inconsistent input. The method per child: kChildNewtonLoad.
+/// count. Returns false for inconsistent input, or with why = "cancelled" (batch.cancel). The
+/// method per child: kChildNewtonLoad.
 bool SolveChildren(const Hairstyle& style, const HairstyleMasters& masters,
                    const std::vector<StrandSolution>& solutions, const BatchOptions& batch,
                    HairCurves* strands, GroomSummary* summary, std::string* why);

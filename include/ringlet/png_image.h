@@ -2,10 +2,16 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "ringlet/render.h"
 
 namespace ringlet {
+
+/// The 8-bit sRGB codes that WritePng stores, row-major, 3 per pixel (R, G, B): each channel
+/// times exposure, clamped to [0, 1] (NaN counts as 0), encoded with the sRGB transfer function
+/// (IEC 61966-2-1) and rounded to the nearest of the 256 codes.
+std::vector<unsigned char> EncodeSrgb8(const Image& image, double exposure);
 
 /// Writes image to path as an 8-bit RGB PNG: each channel is multiplied by exposure, clamped to
 /// [0, 1] and encoded with the sRGB transfer function (IEC 61966-2-1), with an sRGB chunk.

@@ -3,6 +3,7 @@
 // light and an environment; tiles in parallel, deterministic for a seed whatever the threads.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -114,6 +115,10 @@ struct RenderOptions {
   bool jitter = true;
   /// Called after each finished tile with (tiles done, tiles total), never concurrently.
   std::function<void(long, long)> progress;
+  /// Cooperative cancellation (may be null): once *cancel is true, tiles not yet started are
+  /// skipped and Render returns false with error "cancelled" (the image untouched). Read only
+  /// between tiles, so it never changes the pixels of a finished render.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// Most pixels of an image, width x height: 2^26 (8192 x 8192). The image takes 12 bytes per
@@ -143,8 +148,8 @@ struct RenderStats {
 };
 
 /// Renders the scene. Returns false with a one-line message in error (Embree failures, invalid
-/// options naming the field, coordinates beyond kMaxSceneCoordinate) and leaves image
-/// untouched.
+/// options naming the field, coordinates beyond kMaxSceneCoordinate, "cancelled") and leaves
+/// image untouched.
 bool Render(const RenderScene& scene, const RenderOptions& options, Image* image,
             RenderStats* stats, std::string* error);
 

@@ -1,14 +1,17 @@
 // Render settings in JSON: the "render" object of a hairstyle file, or of a file of its own
-// (docs/hairstyle-format.md, "render"). Parsing only: the settings are turned into a RenderScene
-// and RenderOptions by the `ringlet render` and `ringlet groom --render` commands.
+// (docs/hairstyle-format.md, "render"), and the RenderScene they describe (MakeRenderScene),
+// used by `ringlet render`, `ringlet groom --render` and the Python module.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
+#include "ringlet/body.h"
 #include "ringlet/fibre_scattering.h"
 #include "ringlet/hair_bsdf.h"
+#include "ringlet/hair_curves.h"
 #include "ringlet/hair_type.h"
 #include "ringlet/math.h"
 #include "ringlet/render.h"
@@ -87,6 +90,22 @@ bool LoadRenderSettings(const std::string& path, RenderSettings* settings, std::
 bool ParseShadowMode(const std::string& name, ShadowMode* mode);
 /// "chiang2016" / "marschner2003" -> HairScatteringModel; false for other names.
 bool ParseHairScatteringModel(const std::string& name, HairScatteringModel* model);
+
+/// The box the framed camera looks at: the hair's points together with the body's sphere named
+/// "head" (so that short hair still shows the whole head); the body's bounds when there is no
+/// hair. Empty when there is neither.
+Eigen::AlignedBox3d FramingBox(const HairCurves* hair, const Body* body);
+
+/// The scene of the settings, shared by every front end (`ringlet render`, `ringlet groom
+/// --render`, the Python module): hair (may be null or empty) shaded by a HairBsdf from
+/// settings.optics with the given eccentricity in [0, 1) and sigma_a = AbsorptionFromMelanin of
+/// the settings' melanins, the body (may be null), the key light and environment, and the camera
+/// (kFramed: FrameCamera around FramingBox with the image's aspect; kExplicit: as given).
+/// scene->hair points to *hair, which must outlive the scene. Returns false with one line in
+/// *error for invalid optics ("hair optics: ...") or nothing to render.
+bool MakeRenderScene(const RenderSettings& settings, const HairCurves* hair,
+                     std::shared_ptr<const Body> body, double eccentricity,
+                     std::uint64_t orientation_seed, RenderScene* scene, std::string* error);
 
 /// The eccentricity e = sqrt(1 - b^2/a^2) = sqrt(1 - 1/ellipticity^2) of a hair type's mean
 /// section (ellipticity = a/b >= 1, hair_type.h): the one number for the fibre's mechanics and

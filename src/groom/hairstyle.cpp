@@ -16,6 +16,11 @@ bool Fail(std::string* why, const std::string& message) {
   return false;
 }
 
+// BatchOptions::cancel was set: SolveStrands skipped strands, so nothing after it may run.
+bool Cancelled(const BatchOptions& batch) {
+  return batch.cancel && batch.cancel->load(std::memory_order_relaxed);
+}
+
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -301,6 +306,7 @@ bool SolveChildren(const Hairstyle& style, const HairstyleMasters& masters,
       reported += static_cast<int>(group[k].size());
     }
   }
+  if (Cancelled(batch)) return Fail(why, "cancelled");
 
   // Resample each solved child at its own point count, equally spaced in arc length.
   for (size_t c = 0; c < children.size(); ++c) {
@@ -342,6 +348,7 @@ bool GroomHairstyle(const Hairstyle& style, const BatchOptions& batch, Groom* gr
   auto start = std::chrono::steady_clock::now();
   g.solutions = SolveStrands(g.masters.models, style.solver, batch);
   g.summary.solve_seconds = SecondsSince(start);
+  if (Cancelled(batch)) return Fail(why, "cancelled");
 
   start = std::chrono::steady_clock::now();
   if (!GrowWisps(style, g.masters, g.solutions, &g.strands, why)) return false;

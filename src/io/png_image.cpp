@@ -114,6 +114,16 @@ bool ReadRows(png_structp png, png_infop info, png_bytep* rows) {
 
 }  // namespace
 
+std::vector<unsigned char> EncodeSrgb8(const Image& image, double exposure) {
+  std::vector<unsigned char> rgb(image.pixels.size() * 3);
+  for (size_t i = 0; i < image.pixels.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      rgb[3 * i + c] = internal::LinearToSrgb8(exposure * static_cast<double>(image.pixels[i][c]));
+    }
+  }
+  return rgb;
+}
+
 bool WritePng(const std::string& path, const Image& image, double exposure, bool overwrite,
               std::string* error) {
   std::string bytes, why;
@@ -141,12 +151,7 @@ bool EncodePng(const Image& image, double exposure, std::string* png, std::strin
     return fail("exposure must be a finite number >= 0, got " + std::to_string(exposure));
   }
   // Quantize: exposure, clamp, sRGB, 8 bits (io/srgb.h).
-  std::vector<unsigned char> rgb(image.pixels.size() * 3);
-  for (size_t i = 0; i < image.pixels.size(); ++i) {
-    for (int c = 0; c < 3; ++c) {
-      rgb[3 * i + c] = internal::LinearToSrgb8(exposure * static_cast<double>(image.pixels[i][c]));
-    }
-  }
+  std::vector<unsigned char> rgb = EncodeSrgb8(image, exposure);
   std::vector<png_bytep> rows(static_cast<size_t>(image.height));
   for (int y = 0; y < image.height; ++y) {
     rows[static_cast<size_t>(y)] = rgb.data() + static_cast<size_t>(y) * image.width * 3;

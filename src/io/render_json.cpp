@@ -332,4 +332,60 @@ bool ParseRenderSettingsText(const std::string& text, RenderSettings* settings,
          ParseRenderMember(document, settings, error, required);
 }
 
+Eigen::AlignedBox3d FramingBox(const HairCurves* hair, const Body* body) {
+  Eigen::AlignedBox3d box;  // empty
+  if (hair) {
+    for (const Vec3f& p : hair->points) box.extend(p.cast<double>());
+  }
+  if (body) {
+    if (box.isEmpty()) return body->Bounds();
+    if (const Sphere* head = body->FindSphere("head")) {
+      box.extend(head->center - Vec3::Constant(head->radius));
+      box.extend(head->center + Vec3::Constant(head->radius));
+    }
+  }
+  return box;
+}
+
+bool MakeRenderScene(const RenderSettings& settings, const HairCurves* hair,
+                     std::shared_ptr<const Body> body, double eccentricity,
+                     std::uint64_t orientation_seed, RenderScene* scene, std::string* error) {
+  const RenderSettings& s = settings;
+  const bool has_hair = hair && hair->NumStrands() > 0;
+  RenderScene made;
+  if (has_hair) {
+    made.hair = hair;
+    HairOptics optics = s.optics;
+    optics.eccentricity = eccentricity;
+    optics.sigma_a = AbsorptionFromMelanin(s.eumelanin, s.pheomelanin);
+    const std::string why = CheckHairOptics(optics);
+    if (!why.empty()) {
+      *error = "hair optics: " + why;
+      return false;
+    }
+    made.fibre = std::make_shared<HairBsdf>(optics);
+  }
+  made.body = std::move(body);
+  if (!has_hair && !made.body) {
+    *error = "nothing to render: no strands and no body";
+    return false;
+  }
+  made.body_albedo = s.body_albedo;
+  made.orientation_seed = orientation_seed;
+  made.key = s.key;
+  made.environment = s.environment;
+  const double aspect = static_cast<double>(s.options.width) / s.options.height;
+  if (s.camera.kind == CameraSettings::Kind::kFramed) {
+    const Eigen::AlignedBox3d box = FramingBox(hair, made.body.get());
+    made.camera = FrameCamera(box, s.camera.view_direction, s.camera.vertical_fov, aspect);
+  } else {
+    made.camera.position = s.camera.position;
+    made.camera.look_at = s.camera.look_at;
+    made.camera.up = s.camera.up;
+    made.camera.vertical_fov = s.camera.vertical_fov;
+  }
+  *scene = std::move(made);
+  return true;
+}
+
 }  // namespace ringlet

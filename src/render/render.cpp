@@ -424,6 +424,8 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
   long tiles_done = 0;
 
   auto render_tile = [&](long index) {
+    // Cancelled: the tiles not yet started are skipped and the call fails below.
+    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) return;
     const int x0 = static_cast<int>(index % tiles_x) * tile;
     const int y0 = static_cast<int>(index / tiles_x) * tile;
     const int x1 = std::min(x0 + tile, width);
@@ -467,6 +469,10 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
     });
   });
 
+  if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
+    if (error) *error = "cancelled";
+    return false;
+  }
   *image = std::move(result);
   if (stats != nullptr) {
     stats->camera_rays = static_cast<std::int64_t>(width) * height * spp;

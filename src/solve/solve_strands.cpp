@@ -19,6 +19,11 @@ std::vector<StrandSolution> SolveStrands(const std::vector<StrandModel>& models,
   std::mutex progress_mutex;
   int finished = 0;
   auto solve_one = [&](int i) {
+    // Cancelled: skip the strands not yet started (the caller checks the flag after the call).
+    if (batch.cancel && batch.cancel->load(std::memory_order_relaxed)) {
+      solutions[i].summary.message = kCancelledMessage;
+      return;
+    }
     const VecX* start = nullptr;
     if (warm_starts && (*warm_starts)[i].size() > 0) start = &(*warm_starts)[i];
     solutions[i] = SolveStrand(models[i], options, start);

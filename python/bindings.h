@@ -1,0 +1,70 @@
+// Shared helpers of the Python module `ringlet` (docs/python.md): the ringlet.Error exception,
+// JSON-like Python objects -> nlohmann::json, numpy views on C++ storage, and running long work
+// with the GIL released and Ctrl-C honoured. Bindings only: no physics here.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <atomic>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ringlet::python {
+
+namespace py = pybind11;
+
+/// The C++ side of ringlet.Error: carries the library's one-line message.
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& message) : std::runtime_error(message) {}
+};
+
+/// Registers ringlet.Error (a subclass of ValueError and RuntimeError) and its translator.
+void RegisterError(py::module_& m);
+
+/// A JSON-like Python value (dict with str keys, list, tuple, str, int, float, bool, None, numpy
+/// arrays and scalars) as JSON. `where` names the value in errors ("scene").
+nlohmann::json ToJson(py::handle value, const std::string& where);
+
+/// Runs work() on a worker thread while the calling (Python) thread waits with the GIL released,
+/// checking for signals every 20 ms. On Ctrl-C (any exception from a signal handler) sets
+/// *cancel, waits for the worker to stop and re-raises the Python exception (KeyboardInterrupt).
+/// An exception thrown by work() is re-thrown in the calling thread.
+void RunInterruptibly(const std::function<void()>& work, std::atomic<bool>* cancel);
+
+/// A numpy array viewing `data` (no copy) with the given shape and strides (bytes), kept alive
+/// by `owner` (the Python object owning the storage). Read-only unless writable.
+template <class T>
+py::array View(const T* data, std::vector<py::ssize_t> shape, std::vector<py::ssize_t> strides,
+               py::handle owner, bool writable) {
+  py::array array(py::dtype::of<T>(), std::move(shape), std::move(strides), data, owner);
+  if (!writable) array.attr("flags").attr("writeable") = false;
+  return array;
+}
+
+/// A numpy array taking ownership of the vector's storage (no copy), shape as given (the
+/// product must equal the size times `per_item` scalars).
+template <class T>
+py::array OwnedArray(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
+  auto* owned = new std::vector<T>(std::move(values));
+  py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  std::vector<py::ssize_t> strides(shape.size());
+  py::ssize_t stride = sizeof(T);
+  for (size_t i = shape.size(); i-- > 0;) {
+    strides[i] = stride;
+    stride *= shape[i];
+  }
+  return py::array(py::dtype::of<T>(), std::move(shape), std::move(strides), owned->data(),
+                   owner);
+}
+
+/// The module's parts, one per file.
+void BindSolve(py::module_& m);
+void BindHair(py::module_& m);
+void BindRender(py::module_& m);
+
+}  // namespace ringlet::python

@@ -1,0 +1,134 @@
+// The Python module `ringlet` (docs/python.md): pybind11 bindings of the library, numpy in and
+// out, names as in the C++ API (functions in snake_case). This file: the module, ringlet.Error,
+// JSON conversion and the interruptible runner shared by the parts.
+#include <Python.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "bindings.h"
+
+namespace ringlet::python {
+
+namespace {
+// The Python type of ringlet.Error, created once by RegisterError (a new reference that lives
+// as long as the interpreter).
+PyObject* error_type = nullptr;
+}  // namespace
+
+void RegisterError(py::module_& m) {
+  py::tuple bases = py::make_tuple(py::handle(PyExc_ValueError), py::handle(PyExc_RuntimeError));
+  error_type = PyErr_NewExceptionWithDoc(
+      "ringlet.Error",
+      "Bad input or a failed operation: the message is the library's one line naming the field "
+      "and what was expected (the same line the ringlet command prints). A subclass of both "
+      "ValueError and RuntimeError.",
+      bases.ptr(), nullptr);
+  if (!error_type) throw py::error_already_set();
+  m.attr("Error") = py::handle(error_type);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const Error& e) {
+      PyErr_SetString(error_type, e.what());
+    }
+  });
+}
+
+nlohmann::json ToJson(py::handle value, const std::string& where) {
+  if (value.is_none()) return nullptr;
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
+  if (py::isinstance<py::int_>(value)) {
+    int overflow = 0;
+    const long long v = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
+    if (overflow == 0) return v;
+    if (overflow > 0) {
+      const unsigned long long u = PyLong_AsUnsignedLongLong(value.ptr());
+      if (!PyErr_Occurred()) return u;
+      PyErr_Clear();
+    }
+    return value.cast<double>();  // beyond 64 bits: a (huge) number, rejected by range checks
+  }
+  if (py::isinstance<py::float_>(value)) return value.cast<double>();
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::dict>(value)) {
+    nlohmann::json object = nlohmann::json::object();
+    for (auto item : value.cast<py::dict>()) {
+      if (!py::isinstance<py::str>(item.first)) {
+        throw Error(where + ": expected string keys, got " +
+                    std::string(py::str(py::repr(item.first))));
+      }
+      const std::string key = item.first.cast<std::string>();
+      object[key] = ToJson(item.second, where + "." + key);
+    }
+    return object;
+  }
+  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    nlohmann::json array = nlohmann::json::array();
+    size_t i = 0;
+    for (auto item : value) {
+      array.push_back(ToJson(item, where + "[" + std::to_string(i) + "]"));
+      ++i;
+    }
+    return array;
+  }
+  // numpy arrays and scalars (np.int64 is not an int): their Python equivalent.
+  if (py::hasattr(value, "tolist")) return ToJson(value.attr("tolist")(), where);
+  throw Error(where + ": expected a JSON-like value (dict, list, str, number, bool or None), "
+              "got " + std::string(py::str(value.get_type().attr("__name__"))));
+}
+
+void RunInterruptibly(const std::function<void()>& work, std::atomic<bool>* cancel) {
+  std::exception_ptr failure;
+  std::mutex mutex;
+  std::condition_variable finished;
+  bool done = false;
+  bool interrupted = false;
+  {
+    py::gil_scoped_release release;
+    std::thread worker([&] {
+      try {
+        work();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      done = true;
+      finished.notify_all();
+    });
+    std::unique_lock<std::mutex> lock(mutex);
+    while (!finished.wait_for(lock, std::chrono::milliseconds(20), [&] { return done; })) {
+      if (interrupted) continue;
+      lock.unlock();
+      {
+        py::gil_scoped_acquire gil;
+        // Runs the Python signal handlers (this is the main thread when called from it); the
+        // KeyboardInterrupt stays set in this thread state until re-raised below.
+        interrupted = PyErr_CheckSignals() != 0;
+      }
+      if (interrupted) cancel->store(true);
+      lock.lock();
+    }
+    lock.unlock();
+    worker.join();
+  }
+  if (interrupted) throw py::error_already_set();
+  if (failure) std::rethrow_exception(failure);
+}
+
+}  // namespace ringlet::python
+
+PYBIND11_MODULE(_ringlet, m) {
+  using namespace ringlet::python;
+  m.doc() =
+      "ringlet: hair shapes from the statics of Kirchhoff rods (Bertails et al. 2005). Solve "
+      "strands, groom and style hairstyles, read and write hair files and render, with numpy "
+      "arrays in SI units (metres, seconds, kilograms). See docs/python.md.";
+  RegisterError(m);
+  BindSolve(m);
+  BindHair(m);
+  BindRender(m);
+}

@@ -1,0 +1,49 @@
+// Types shared between the parts of the Python module (bindings.h).
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <vector>
+
+#include <memory>
+#include <string>
+
+#include "ringlet/hairstyle.h"
+#include "ringlet/math.h"
+#include "ringlet/render_json.h"
+#include "ringlet/result_json.h"
+#include "ringlet/scene_json.h"
+#include "ringlet/styling.h"
+
+namespace ringlet::python {
+
+/// What ringlet.StrandResult holds: the result as `ringlet solve` writes it and the material
+/// frames at its points (SampleFramedCentreline with the same points per segment).
+struct SolvedStrand {
+  StrandResult result;
+  std::vector<Mat3> frames;
+};
+
+/// The scene of a Scene, a scene dict, a path, a StrandModel or a list of StrandModel.
+Scene SceneFrom(pybind11::handle scene);
+
+/// What ringlet.Hairstyle holds: a hairstyle file's hair, its styling operations (applied by
+/// StyledHair.apply_operations, as `ringlet style` does) and its render settings (used by
+/// ringlet.render, as `ringlet render` does).
+struct HairstyleFile {
+  Hairstyle style;
+  std::vector<StyleOperation> operations;
+  RenderSettings render;
+};
+
+/// What ringlet.Groom holds: the groom and the hairstyle it came from.
+struct GroomResult {
+  std::shared_ptr<const HairstyleFile> hairstyle;
+  Groom groom;
+};
+
+/// The hairstyle of a Hairstyle, a hairstyle dict (relative paths from base_directory) or a path.
+std::shared_ptr<const HairstyleFile> HairstyleFrom(pybind11::handle hairstyle,
+                                                   const std::string& base_directory);
+
+}  // namespace ringlet::python
