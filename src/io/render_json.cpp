@@ -322,4 +322,9 @@ bool LoadRenderSettings(const std::string& path, RenderSettings* settings, std::
   return true;
 }
 
+void SetMelaninColours(const RenderSettings& settings, HairCurves* curves) {
+  const Vec3f colour = MelaninDisplayColour(settings.eumelanin, settings.pheomelanin).cast<float>();
+  curves->colors.assign(curves->point_counts.size(), colour);
+}
+
 }  // namespace ringlet
