@@ -11,6 +11,7 @@ packages=(
   python3-numpy python3-matplotlib
   libglfw3-dev libimgui-dev libgl-dev libepoxy-dev
   xvfb xauth libgl1-mesa-dri
+  blender  # the Blender add-on's tests (tests/blender/, headless Blender 3.4.1 with Cycles)
 )
 
 missing=()

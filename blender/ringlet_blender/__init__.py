@@ -184,11 +184,9 @@ def import_output_folder(context, directory, with_body=True, with_material=True)
     body_path = os.path.join(directory, "body.obj")
     if with_body and os.path.isfile(body_path):
         before = set(bpy.data.objects)
-        # ringlet's OBJ files are z up, metres: no axis conversion.
-        if hasattr(bpy.ops.wm, "obj_import"):
-            bpy.ops.wm.obj_import(filepath=body_path, forward_axis="Y", up_axis="Z")
-        else:
-            bpy.ops.import_scene.obj(filepath=body_path, axis_forward="Y", axis_up="Z")
+        # ringlet's OBJ files are z up, metres: no axis conversion (Blender's C++ OBJ importer,
+        # in Blender since 3.2).
+        bpy.ops.wm.obj_import(filepath=body_path, forward_axis="Y", up_axis="Z")
         new = [o for o in bpy.data.objects if o not in before and o.type == "MESH"]
         if new:
             body = new[0]

@@ -148,6 +148,22 @@ material = hair.data.materials[0]
 check(any(n.bl_idname == "ShaderNodeBsdfHairPrincipled" for n in material.node_tree.nodes),
       "the hair material has no Principled Hair BSDF")
 
+# --- Blender's own OBJ importer keeps every 2-vertex segment of strands.obj (issue 14: it kept
+# only the first edge of each polyline), z up with Forward Y, Up Z. ---
+before = set(bpy.data.objects)
+bpy.ops.wm.obj_import(filepath=os.path.join(out, "strands.obj"), forward_axis="Y", up_axis="Z")
+obj_hair = [o for o in bpy.data.objects if o not in before]
+check(len(obj_hair) == 1 and obj_hair[0].type == "MESH", "strands.obj: expected one mesh")
+check(len(obj_hair[0].data.edges) == points.shape[0] - counts.size,
+      "strands.obj: Blender's importer kept %d edges, the hair has %d segments"
+      % (len(obj_hair[0].data.edges), points.shape[0] - counts.size))
+obj_co = np.empty(3 * len(obj_hair[0].data.vertices), dtype=np.float32)
+obj_hair[0].data.vertices.foreach_get("co", obj_co)
+obj_co = obj_co.reshape(-1, 3) @ np.asarray(obj_hair[0].matrix_world, dtype=np.float32)[:3, :3].T
+check(obj_co.shape == points.shape and np.abs(obj_co - points).max() < 1e-6,
+      "strands.obj: vertices differ from the .hair points (axes?)")
+bpy.data.objects.remove(obj_hair[0])
+
 # --- Export > Hair (.hair) and back: bit-exact. ---
 exported = os.path.join(WORK, "exported.hair")
 bpy.ops.object.select_all(action="DESELECT")
