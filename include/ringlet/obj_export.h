@@ -3,7 +3,7 @@
 // importer keeps: Blender 3.4's built-in importer keeps only the first edge of a longer 'l'
 // polyline (checked with Blender 3.4.1), other readers drop or split polylines. The polyline form
 // (one 'l' per strand) stays available for readers that keep it (ObjExportOptions::polylines):
-// it is about 40% smaller. Units metres, z up (the header comment says so: importers that
+// it is 5-15% smaller. Units metres, z up (the header comment says so: importers that
 // assume y up need Forward Y, Up Z); widths are not stored (OBJ has no per-vertex width).
 // Strand colours, when present, are written with the common "v x y z r g b" vertex-colour
 // extension (read by Blender and tinyobjloader; other readers may ignore or reject it).
