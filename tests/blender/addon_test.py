@@ -215,6 +215,13 @@ check(np.array_equal(r_counts, v_counts) and same_bits(r_points, v_points) and
       same_bits(r_thickness, v_radii * np.float32(2.0)) and r_colours is None,
       "varying counts did not round-trip")
 bpy.data.objects.remove(made)
+# ringlet's own reader (DecodeHairFile, through `ringlet render`) accepts both exports.
+for path in (exported, variable):
+    result = subprocess.run([RINGLET, "render", path, "-o", path + ".png", "--width", "8",
+                             "--height", "8", "--spp", "1", "--quiet"],
+                            capture_output=True, text=True)
+    check(result.returncode == 0, "ringlet does not read the add-on's %s: %s"
+          % (os.path.basename(path), result.stderr))
 
 # Bad files: an error report, no object, no exception.
 bad = os.path.join(WORK, "bad.hair")
