@@ -29,7 +29,8 @@ bool EncodeObj(const HairCurves& curves, const ObjExportOptions& options, std::s
   // its capacity).
   std::string& out = *text;
   out.clear();
-  out.reserve((options.polylines ? 56 : 72) * curves.points.size() + (with_colors ? 24 * curves.points.size() : 0) + 512);
+  const size_t per_point = (options.polylines ? 56 : 72) + (with_colors ? 24 : 0);
+  out.reserve(per_point * curves.points.size() + 512);
   out += "# ringlet hair curves: ";
   AppendNumber(&out, static_cast<long long>(curves.NumStrands()));
   out += " strands, ";
@@ -142,30 +143,36 @@ void EncodeBodyObj(const Body& body, std::string* text) {
     out += "o ";
     out += sphere.name.empty() ? "sphere_" + std::to_string(k) : sphere.name;
     out += '\n';
-    // Vertices: north pole, rings 1..R-1 of S vertices each (polar angle pi j / R, azimuth
-    // 2 pi i / S), south pole.
-    const int S = kBodySphereSegments, R = kBodySphereRings;
+    // Vertices: north pole, rings j = 1..rings-1 of `segments` vertices each (polar angle
+    // pi j / rings, azimuth 2 pi i / segments), south pole.
+    const int segments = kBodySphereSegments, rings = kBodySphereRings;
     AppendVertex(&out, sphere.center + sphere.radius * Vec3::UnitZ());
-    for (int j = 1; j < R; ++j) {
-      const double v = std::numbers::pi * j / R;
-      for (int i = 0; i < S; ++i) {
-        const double u = 2.0 * std::numbers::pi * i / S;
+    for (int j = 1; j < rings; ++j) {
+      const double v = std::numbers::pi * j / rings;
+      for (int i = 0; i < segments; ++i) {
+        const double u = 2.0 * std::numbers::pi * i / segments;
         const Vec3 n(std::sin(v) * std::cos(u), std::sin(v) * std::sin(u), std::cos(v));
         AppendVertex(&out, sphere.center + sphere.radius * n);
       }
     }
     AppendVertex(&out, sphere.center - sphere.radius * Vec3::UnitZ());
-    const long long north = base, south = base + 1 + static_cast<long long>(R - 1) * S;
-    const auto ring = [&](int j, int i) { return base + 1 + static_cast<long long>(j - 1) * S + i % S; };
+    const long long north = base;
+    const long long south = base + 1 + static_cast<long long>(rings - 1) * segments;
+    // Vertex i (mod segments) of ring j in 1..rings-1.
+    const auto ring = [&](int j, int i) {
+      return base + 1 + static_cast<long long>(j - 1) * segments + i % segments;
+    };
     // Counter-clockwise seen from outside: azimuth grows counter-clockwise about +z.
-    for (int i = 0; i < S; ++i) AppendFace(&out, north, ring(1, i), ring(1, i + 1));
-    for (int j = 1; j < R - 1; ++j) {
-      for (int i = 0; i < S; ++i) {
+    for (int i = 0; i < segments; ++i) AppendFace(&out, north, ring(1, i), ring(1, i + 1));
+    for (int j = 1; j < rings - 1; ++j) {
+      for (int i = 0; i < segments; ++i) {
         AppendFace(&out, ring(j, i), ring(j + 1, i), ring(j + 1, i + 1));
         AppendFace(&out, ring(j, i), ring(j + 1, i + 1), ring(j, i + 1));
       }
     }
-    for (int i = 0; i < S; ++i) AppendFace(&out, ring(R - 1, i), south, ring(R - 1, i + 1));
+    for (int i = 0; i < segments; ++i) {
+      AppendFace(&out, ring(rings - 1, i), south, ring(rings - 1, i + 1));
+    }
     base = south + 1;
   }
   for (size_t k = 0; k < body.meshes().size(); ++k) {
