@@ -64,7 +64,7 @@ if (hair_strands, hair_points) != (strands, points):
                   % (hair_strands, hair_points, strands, points))
 # .hair info text (bytes 40-127): the unit it was written in (metres by default).
 info = head[40:128].split(b"\0", 1)[0].decode("ascii")
-if info != "ringlet hair curves; 1 unit per metre (metres); z up; thickness = diameter":
+if info != "ringlet hair curves; 1 unit per metre (metres); z up; thickness: diameter":
     errors.append("strands.hair info text: %r" % info)
 # .hair arrays (points, thickness, colour: bits 2 | 4 | 16, equal counts so no segments array).
 import numpy
@@ -184,7 +184,7 @@ cmp -s <(head -c 12 "$work/out/cm/strands.hair") <(head -c 12 "$work/out/all/str
   fail "--hair-units-per-metre 100 changed the strand or point count"
 # ... and its header says so (bytes 40-127), instead of "metres".
 [ "$(head -c 128 "$work/out/cm/strands.hair" | tail -c 88 | tr -d '\0')" = \
-  "ringlet hair curves; 100 units per metre (centimetres); z up; thickness = diameter" ] && ok ||
+  "ringlet hair curves; 100 units per metre (centimetres); z up; thickness: diameter" ] && ok ||
   fail "--hair-units-per-metre 100: the header does not state centimetres"
 
 # An existing file is refused and untouched without --force (and nothing else is written),

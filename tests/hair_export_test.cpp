@@ -284,13 +284,13 @@ TEST(HairFile, InfoTextStatesTheUnitWritten) {
     return std::string(b.data() + 40);  // bytes 40-127, zero-terminated
   };
   EXPECT_EQ(info_of(1.0),
-            "ringlet hair curves; 1 unit per metre (metres); z up; thickness = diameter");
+            "ringlet hair curves; 1 unit per metre (metres); z up; thickness: diameter");
   EXPECT_EQ(info_of(100.0),
-            "ringlet hair curves; 100 units per metre (centimetres); z up; thickness = diameter");
+            "ringlet hair curves; 100 units per metre (centimetres); z up; thickness: diameter");
   EXPECT_EQ(info_of(1000.0),
-            "ringlet hair curves; 1000 units per metre (millimetres); z up; thickness = diameter");
+            "ringlet hair curves; 1000 units per metre (millimetres); z up; thickness: diameter");
   EXPECT_EQ(info_of(39.37),
-            "ringlet hair curves; 39.37 units per metre; z up; thickness = diameter");
+            "ringlet hair curves; 39.37 units per metre; z up; thickness: diameter");
   // The longest number fits the 87 characters.
   EXPECT_LE(DefaultHairInfo(1.2345678901234567e-300).size(), 87u);
   HairFileOptions long_unit;

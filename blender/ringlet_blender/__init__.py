@@ -33,7 +33,7 @@ def info_text(units_per_metre):
     number = repr(value)
     if number.endswith(".0"):
         number = number[:-2]
-    return "ringlet hair curves; %s %s per metre%s; z up; thickness = diameter" % (
+    return "ringlet hair curves; %s %s per metre%s; z up; thickness: diameter" % (
         number, "unit" if value == 1.0 else "units", UNIT_NAMES.get(value, ""))
 
 

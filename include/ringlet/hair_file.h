@@ -49,7 +49,7 @@ struct HairFileOptions {
 };
 
 /// The info text ringlet writes by default: "ringlet hair curves; U units per metre (NAME); z up;
-/// thickness = diameter", U the shortest decimal of units_per_metre ("1 unit per metre" for 1)
+/// thickness: diameter", U the shortest decimal of units_per_metre ("1 unit per metre" for 1)
 /// and NAME metres, centimetres or millimetres for 1, 100 and 1000 (left out otherwise). At most
 /// 87 characters for any finite units_per_metre > 0. Readers (the Blender add-on) parse U back.
 std::string DefaultHairInfo(double units_per_metre);

@@ -86,7 +86,7 @@ std::string DefaultHairInfo(double units_per_metre) {
   if (units_per_metre == 1.0) text += " (metres)";
   if (units_per_metre == 100.0) text += " (centimetres)";
   if (units_per_metre == 1000.0) text += " (millimetres)";
-  return text + "; z up; thickness = diameter";
+  return text + "; z up; thickness: diameter";
 }
 
 bool HairFileOptions::IsValid(std::string* why) const {
