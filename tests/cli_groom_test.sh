@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The command-line contract of `ringlet groom` (docs/hairstyle-format.md): a small hairstyle
-# written here grooms into strands.hair, strands.usda, strands.obj and masters.json whose counts
+# written here grooms into strands.hair, strands.usda, strands.obj, body.obj and masters.json whose counts
 # agree with the summary line; --formats, --force, --quiet and --threads behave; the body path is
 # resolved relative to the hairstyle file, not the working directory; existing files are never
 # overwritten silently; every bad input gives exit code 1, exactly one line on stderr naming the
@@ -140,7 +140,7 @@ EOF
 }
 
 # --------------------------------------------------------------------------------------------
-# A groom writes the four files; the summary is on stdout, nothing on stderr.
+# A groom writes the five files; the summary is on stdout, nothing on stderr.
 run groom "$SMALL" -o "$work/out/all"
 expect_rc "groom" 0
 [ -s "$work/stderr" ] && fail "groom: unexpected stderr: $(cat "$work/stderr")" || ok
