@@ -2,9 +2,9 @@
 # The command-line contract of `ringlet groom` (docs/hairstyle-format.md): a small hairstyle
 # written here grooms into strands.hair, strands.usda, strands.obj, body.obj and masters.json
 # whose counts agree with the summary line; --formats, --force, --quiet and --threads behave; the
-# body path is resolved relative to the hairstyle file, not the working directory; existing files are never
-# overwritten silently; every bad input gives exit code 1, exactly one line on stderr naming the
-# field, and creates neither the output directory nor any file in it.
+# body path is resolved relative to the hairstyle file, not the working directory; existing files
+# are never overwritten silently; every bad input gives exit code 1, exactly one line on stderr
+# naming the field, and creates neither the output directory nor any file in it.
 #
 # Needs RINGLET (the built binary) and EXAMPLES (the examples/ directory); run by ctest as
 # `cli_groom`. Exits non-zero if any check failed, after printing what failed.
