@@ -43,14 +43,15 @@ struct OutputFile {
 constexpr OutputFile kOutputs[] = {
     {"hair", "strands.hair"},   // Cem Yuksel's binary hair format
     {"usda", "strands.usda"},   // USD text, BasisCurves
-    {"obj", "strands.obj"},     // OBJ polylines
+    {"obj", "strands.obj"},     // OBJ line segments
+    {"body", "body.obj"},       // the body as a triangle mesh (OBJ), for other tools
     {"json", "masters.json"},   // the solved master strands and the summary
 };
 
 struct GroomArgs {
   std::string hairstyle_path;
   std::string output_dir;
-  std::string formats = "hair,usda,obj,json";
+  std::string formats = "hair,usda,obj,body,json";
   bool force = false;
   bool quiet = false;
   int threads = 0;
@@ -181,6 +182,9 @@ int RunGroom(const GroomArgs& args) {
     PrintError(args.hairstyle_path + ": " + error);
     return kExitBadInput;
   }
+  // Each strand's colour from the melanins of the file's render settings, so that viewers of the
+  // .hair, .usda and .obj files show the hair in its colour (MelaninDisplayColour).
+  SetMelaninColours(render_settings, &groom.strands);
   // --render: the image is rendered before any file is written, so that a failure writes
   // nothing.
   Image image;
@@ -209,6 +213,8 @@ int RunGroom(const GroomArgs& args) {
       ok = EncodeUsda(groom.strands, UsdExportOptions{}, &contents, &error);
     } else if (format == "obj") {
       ok = EncodeObj(groom.strands, &contents, &error);
+    } else if (format == "body") {
+      EncodeBodyObj(*style.body, &contents);
     } else {
       contents = MastersJson(groom, SecondsSince(start));
     }
@@ -293,7 +299,7 @@ Command AddGroomCommand(CLI::App* parent) {
   CLI::App* app = parent->add_subcommand(
       "groom",
       "Groom a full head of hair from a hairstyle file: master strands solved with body "
-      "contact, wisps around them; writes strands.hair, strands.usda, strands.obj and "
+      "contact, wisps around them; writes strands.hair, strands.usda, strands.obj, body.obj and "
       "masters.json into the output directory. Exit code 0 when every master converged to a "
       "stable equilibrium, 2 when some did not (files are still written), 1 on bad usage or "
       "input (nothing is written).");
@@ -303,7 +309,7 @@ Command AddGroomCommand(CLI::App* parent) {
   app->add_option("-o,--output", args->output_dir, "Output directory (created if missing)")
       ->required();
   app->add_option("--formats", args->formats,
-                  "Comma-separated files to write: hair, usda, obj, json (default: all)");
+                  "Comma-separated files to write: hair, usda, obj, body, json (default: all)");
   app->add_option("--hair-units-per-metre", args->hair_units_per_metre,
                   "Length unit of the .hair file per metre (default 1: metres; 100: cm)");
   app->add_flag("--force", args->force, "Overwrite existing output files");

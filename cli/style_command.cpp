@@ -91,7 +91,8 @@ void BadArgument(StyleArgs* args, const std::string& flag, const std::string& ex
 
 // The names of the files to write, in order, for `grow_steps` grow steps in all.
 std::vector<std::string> OutputNames(int grow_steps) {
-  std::vector<std::string> names = {"strands.hair", "strands.usda", "strands.obj", "masters.json"};
+  std::vector<std::string> names = {"strands.hair", "strands.usda", "strands.obj", "body.obj",
+                                    "masters.json"};
   for (int t = 1; t <= grow_steps; ++t) names.push_back(Format("step_%03d.hair", t));
   if (grow_steps > 0) names.push_back("grow.usda");
   return names;
@@ -172,15 +173,14 @@ int RunStyle(const StyleArgs& args) {
     if (planned.op.kind == StyleOperation::Kind::kGrow) grow_steps += planned.op.grow_steps;
   }
   std::vector<std::string> names = OutputNames(grow_steps);
-  // --render: the file's render settings (docs/hairstyle-format.md, "render"), checked now.
+  // The file's render settings (docs/hairstyle-format.md, "render"), checked now with or
+  // without --render (as `ringlet groom` does): their melanins colour the written strands.
   RenderSettings render_settings;
-  if (args.render) {
-    if (!LoadRenderSettings(args.hairstyle_path, &render_settings, &error)) {
-      PrintError(error);
-      return kExitBadInput;
-    }
-    names.push_back("render.png");
+  if (!LoadRenderSettings(args.hairstyle_path, &render_settings, &error)) {
+    PrintError(error);
+    return kExitBadInput;
   }
+  if (args.render) names.push_back("render.png");
   if (!CheckOutputDirectory(args.output_dir, names, args.force, &error)) {
     PrintError(error);
     return kExitBadInput;
@@ -219,6 +219,7 @@ int RunStyle(const StyleArgs& args) {
     for (size_t t = 0; ok && t < sequence.size(); ++t) {
       HairCurves frame;
       ok = StyledStrands(sequence[t], &frame, &error);
+      SetMelaninColours(render_settings, &frame);
       grow_frames.push_back(std::move(frame));
     }
     if (!ok) {
@@ -236,6 +237,7 @@ int RunStyle(const StyleArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
+  SetMelaninColours(render_settings, &strands);  // the colour the exporters write
   // --render, before any file is written (a failure writes nothing). The eccentricity is the
   // hair type's: wetting swells both semi-axes by the same factor.
   Image image;
@@ -268,6 +270,10 @@ int RunStyle(const StyleArgs& args) {
     return EncodeUsda(strands, UsdExportOptions{}, t, &error);
   });
   ok = ok && encode("strands.obj", [&](std::string* t) { return EncodeObj(strands, t, &error); });
+  ok = ok && encode("body.obj", [&](std::string* t) {
+    EncodeBodyObj(*style.body, t);
+    return true;
+  });
   ok = ok && encode("masters.json", [&](std::string* t) {
     *t = MastersJson(state, reports, plan, SecondsSince(start));
     return true;

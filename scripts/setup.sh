@@ -13,6 +13,7 @@ packages=(
   libglfw3-dev libimgui-dev libgl-dev libepoxy-dev
   xvfb xauth libgl1-mesa-dri
   clang-14 libclang-rt-14-dev
+  blender  # the Blender add-on's tests (tests/blender/, headless Blender 3.4.1 with Cycles)
 )
 
 missing=()

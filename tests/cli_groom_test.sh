@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # The command-line contract of `ringlet groom` (docs/hairstyle-format.md): a small hairstyle
-# written here grooms into strands.hair, strands.usda, strands.obj and masters.json whose counts
-# agree with the summary line; --formats, --force, --quiet and --threads behave; the body path is
-# resolved relative to the hairstyle file, not the working directory; existing files are never
-# overwritten silently; every bad input gives exit code 1, exactly one line on stderr naming the
-# field, and creates neither the output directory nor any file in it.
+# written here grooms into strands.hair, strands.usda, strands.obj, body.obj and masters.json
+# whose counts agree with the summary line; --formats, --force, --quiet and --threads behave; the
+# body path is resolved relative to the hairstyle file, not the working directory; existing files
+# are never overwritten silently; every bad input gives exit code 1, exactly one line on stderr
+# naming the field, and creates neither the output directory nor any file in it.
 #
 # Needs RINGLET (the built binary) and EXAMPLES (the examples/ directory); run by ctest as
 # `cli_groom`. Exits non-zero if any check failed, after printing what failed.
@@ -62,11 +62,50 @@ hair_strands, hair_points = struct.unpack("<II", head[4:12])
 if (hair_strands, hair_points) != (strands, points):
     errors.append("strands.hair header: %d strands, %d points; summary: %d, %d"
                   % (hair_strands, hair_points, strands, points))
-# OBJ: one polyline per strand.
-polylines = sum(1 for line in open(out + "/strands.obj") if line.startswith("l "))
-if polylines != strands:
-    errors.append("strands.obj has %d polylines, expected %d" % (polylines, strands))
-# USDA: one BasisCurves prim with one vertex count per strand.
+# .hair info text (bytes 40-127): the unit it was written in (metres by default).
+info = head[40:128].split(b"\0", 1)[0].decode("ascii")
+if info != "ringlet hair curves; 1 unit per metre (metres); z up; thickness: diameter":
+    errors.append("strands.hair info text: %r" % info)
+# .hair arrays (points, thickness, colour: bits 2 | 4 | 16, equal counts so no segments array).
+import numpy
+data = open(out + "/strands.hair", "rb").read()
+arrays = struct.unpack("<I", data[12:16])[0]
+if arrays != 2 | 4 | 16 or len(data) != 128 + 28 * hair_points:
+    errors.append("strands.hair arrays 0x%x, %d bytes: expected points, thickness and colour"
+                  % (arrays, len(data)))
+else:
+    n = hair_points
+    thickness = numpy.frombuffer(data, "<f4", n, 128 + 12 * n).reshape(strands, -1)
+    colours = numpy.frombuffer(data, "<f4", 3 * n, 128 + 16 * n).reshape(n, 3)
+    # Colour: exp(-3 sigma_a) of the default melanins (render_json.h: eumelanin 1.3,
+    # pheomelanin 0.2; Chiang et al. 2016's absorption per unit concentration written here).
+    sigma = 1.3 * numpy.array([0.419, 0.697, 1.37]) + 0.2 * numpy.array([0.187, 0.4, 1.05])
+    want = numpy.exp(-3.0 * sigma)
+    if numpy.abs(colours - want).max() > 1e-7:
+        errors.append("strands.hair colours %s, expected exp(-3 sigma_a) = %s"
+                      % (colours[0], want))
+    # Default taper (wisp.h): the tip is 1/5 of the root's diameter (every strand is longer than
+    # the 6 cm taper), and no strand gets thicker toward the tip.
+    ratio = thickness[:, -1] / thickness[:, 0]
+    if numpy.abs(ratio - 0.2).max() > 1e-6:
+        errors.append("strands.hair tip/root thickness ratios %s, expected 0.2" % ratio[:4])
+    if (numpy.diff(thickness, axis=1) > 0).any():
+        errors.append("strands.hair: a strand gets thicker toward its tip")
+# OBJ: one 2-vertex segment per edge: points - strands segments, each "l i i+1".
+segments = [line.split() for line in open(out + "/strands.obj") if line.startswith("l ")]
+if len(segments) != points - strands:
+    errors.append("strands.obj has %d 'l' lines, expected %d segments"
+                  % (len(segments), points - strands))
+if any(len(l) != 3 or int(l[2]) != int(l[1]) + 1 for l in segments):
+    errors.append("strands.obj: an 'l' element is not a 2-vertex segment (i, i + 1)")
+# body.obj: the mannequin's 9 spheres as UV spheres of 23 x 48 + 2 vertices.
+body = open(out + "/body.obj").read().splitlines()
+objects = [l.split()[1] for l in body if l.startswith("o ")]
+if objects[:2] != ["head", "jaw"] or len(objects) != 9:
+    errors.append("body.obj objects %s: expected the mannequin's 9 spheres" % objects)
+if sum(1 for l in body if l.startswith("v ")) != 9 * (23 * 48 + 2):
+    errors.append("body.obj: wrong vertex count")
+# USDA: one BasisCurves prim with one vertex count per strand, and the strands' colour.
 usda = open(out + "/strands.usda").read()
 counts = re.search(r"int\[\] curveVertexCounts = \[([^\]]*)\]", usda)
 if not usda.startswith("#usda 1.0") or "def BasisCurves" not in usda or not counts:
@@ -74,6 +113,8 @@ if not usda.startswith("#usda 1.0") or "def BasisCurves" not in usda or not coun
 elif len(counts.group(1).split(",")) != strands:
     errors.append("strands.usda: %d curve vertex counts, expected %d"
                   % (len(counts.group(1).split(",")), strands))
+if "color3f[] primvars:displayColor = [" not in usda:
+    errors.append("strands.usda has no primvars:displayColor")
 # masters.json: one solved strand per master and the groom counts.
 d = json.load(open(out + "/masters.json"))
 g = d.get("groom", {})
@@ -99,11 +140,12 @@ EOF
 }
 
 # --------------------------------------------------------------------------------------------
-# A groom writes the four files; the summary is on stdout, nothing on stderr.
+# A groom writes the five files; the summary is on stdout, nothing on stderr.
 run groom "$SMALL" -o "$work/out/all"
 expect_rc "groom" 0
 [ -s "$work/stderr" ] && fail "groom: unexpected stderr: $(cat "$work/stderr")" || ok
-expect_files "groom" "$work/out/all" strands.hair strands.usda strands.obj masters.json
+expect_files "groom" "$work/out/all" strands.hair strands.usda strands.obj body.obj \
+  masters.json
 grep -q '^placed 12 of 12 roots' "$work/stdout" && ok ||
   fail "groom: no root line on stdout: $(cat "$work/stdout")"
 grep -q '^max penetration .* -> ' "$work/stdout" && ok ||
@@ -140,6 +182,10 @@ cmp -s "$work/out/cm/strands.hair" "$work/out/all/strands.hair" &&
   fail "--hair-units-per-metre 100 wrote the same bytes as metres" || ok
 cmp -s <(head -c 12 "$work/out/cm/strands.hair") <(head -c 12 "$work/out/all/strands.hair") && ok ||
   fail "--hair-units-per-metre 100 changed the strand or point count"
+# ... and its header says so (bytes 40-127), instead of "metres".
+[ "$(head -c 128 "$work/out/cm/strands.hair" | tail -c 88 | tr -d '\0')" = \
+  "ringlet hair curves; 100 units per metre (centimetres); z up; thickness: diameter" ] && ok ||
+  fail "--hair-units-per-metre 100: the header does not state centimetres"
 
 # An existing file is refused and untouched without --force (and nothing else is written),
 # replaced with it.
@@ -158,7 +204,7 @@ expect_files "existing directory, other format" "$work/out/existing" strands.obj
 run groom "$SMALL" -o "$work/out/existing" --force
 expect_rc "existing file with --force" 0
 expect_files "existing file with --force" "$work/out/existing" \
-  strands.hair strands.usda strands.obj masters.json
+  strands.hair strands.usda strands.obj body.obj masters.json
 cmp -s "$work/out/existing/strands.obj" "$work/out/all/strands.obj" && ok ||
   fail "--force did not replace strands.obj with the groom"
 
@@ -167,7 +213,7 @@ style budget '"solver": {"max_iterations": 1}'
 run groom "$work/styles/budget.json" -o "$work/out/budget"
 expect_rc "unconverged masters" 2
 expect_files "unconverged masters" "$work/out/budget" \
-  strands.hair strands.usda strands.obj masters.json
+  strands.hair strands.usda strands.obj body.obj masters.json
 grep -q '^groomed 12 masters (0 converged, 12 unconverged' "$work/stdout" && ok ||
   fail "unconverged masters: summary does not say so: $(cat "$work/stdout")"
 grep -q 'did not reach a stable equilibrium' "$work/stderr" && ok ||

@@ -201,7 +201,7 @@ expect_png "new directory" "$work/out/new/dir/tiny.png" 64x48
 run groom "$TINY" -o "$work/out/groom" --render
 expect_rc "groom --render" 0
 expect_files "groom --render" "$work/out/groom" \
-  strands.hair strands.usda strands.obj masters.json render.png
+  strands.hair strands.usda strands.obj body.obj masters.json render.png
 expect_png "groom --render" "$work/out/groom/render.png" 64x48
 grep -q "^rendered 64 x 48 at 2 spp .* -> .*render.png$" "$work/stdout" && ok ||
   fail "groom --render: no render summary on stdout: $(cat "$work/stdout")"
@@ -215,14 +215,14 @@ expect_png "groom --render --width 32 --height 32" "$work/out/groom/render.png" 
 run groom "$TINY" -o "$work/out/groom_plain" --quiet
 expect_rc "groom without --render" 0
 expect_files "groom without --render" "$work/out/groom_plain" \
-  strands.hair strands.usda strands.obj masters.json
+  strands.hair strands.usda strands.obj body.obj masters.json
 
 # `style --render`: the styled (here wet) hair's picture next to the style's files, with the
 # file's render settings; bad render settings are refused before any work.
 run style "$TINY" --wet -o "$work/out/style" --render
 expect_rc "style --wet --render" 0
 expect_files "style --wet --render" "$work/out/style" \
-  strands.hair strands.usda strands.obj masters.json render.png
+  strands.hair strands.usda strands.obj body.obj masters.json render.png
 expect_png "style --wet --render" "$work/out/style/render.png" 64x48
 grep -q "^rendered 64 x 48 at 2 spp .* -> .*render.png$" "$work/stdout" && ok ||
   fail "style --render: no render summary on stdout: $(cat "$work/stdout")"

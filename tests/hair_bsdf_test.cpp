@@ -110,6 +110,21 @@ TEST(HairBsdf, MelaninCoefficientsArePublishedOnes) {
   EXPECT_EQ(AbsorptionFromMelanin(0.0, 0.0), Rgb::Zero());
 }
 
+// The display colour exp(-3 sigma_a), with Chiang et al. 2016's melanin absorption written out
+// here (eumelanin (0.419, 0.697, 1.37), pheomelanin (0.187, 0.4, 1.05) per unit concentration).
+TEST(HairBsdf, MelaninDisplayColourIsTheTransmittanceOfThreeRadii) {
+  const double eu = 1.3, pheo = 0.2;
+  const double sigma[3] = {eu * 0.419 + pheo * 0.187, eu * 0.697 + pheo * 0.4,
+                           eu * 1.37 + pheo * 1.05};
+  const Rgb c = MelaninDisplayColour(eu, pheo);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(c[k], std::exp(-3.0 * sigma[k]), 1e-15) << k;
+  // Brown: red > green > blue; no melanin: white; black hair (eumelanin 8): nearly black.
+  EXPECT_GT(c[0], c[1]);
+  EXPECT_GT(c[1], c[2]);
+  EXPECT_EQ(MelaninDisplayColour(0.0, 0.0), Rgb(1.0, 1.0, 1.0));
+  EXPECT_LT(MelaninDisplayColour(8.0, 0.0).maxCoeff(), 1e-4);
+}
+
 TEST(HairBsdf, CheckHairOpticsNamesTheField) {
   EXPECT_EQ(CheckHairOptics(HairOptics{}), "");
   auto first_word = [](HairOptics o) {

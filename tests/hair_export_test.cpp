@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "ringlet/atomic_file.h"
+#include "ringlet/body.h"
 #include "ringlet/hair_file.h"
 #include "ringlet/obj_export.h"
 #include "ringlet/usd_export.h"
@@ -271,6 +272,39 @@ TEST(HairFile, UnitsPerMetreScalesLengths) {
   }
 }
 
+// The header's info text states the unit the file was written in (issue 14: with
+// --hair-units-per-metre 100 it used to say "metres"). Expected strings written out by hand.
+TEST(HairFile, InfoTextStatesTheUnitWritten) {
+  const HairCurves curves = MakeCurves({3, 3}, false, 9);
+  const auto info_of = [&](double units_per_metre) {
+    HairFileOptions options;
+    options.units_per_metre = units_per_metre;
+    std::string b, error;
+    EXPECT_TRUE(EncodeHairFile(curves, options, &b, &error)) << error;
+    return std::string(b.data() + 40);  // bytes 40-127, zero-terminated
+  };
+  EXPECT_EQ(info_of(1.0),
+            "ringlet hair curves; 1 unit per metre (metres); z up; thickness: diameter");
+  EXPECT_EQ(info_of(100.0),
+            "ringlet hair curves; 100 units per metre (centimetres); z up; thickness: diameter");
+  EXPECT_EQ(info_of(1000.0),
+            "ringlet hair curves; 1000 units per metre (millimetres); z up; thickness: diameter");
+  EXPECT_EQ(info_of(39.37),
+            "ringlet hair curves; 39.37 units per metre; z up; thickness: diameter");
+  // The longest number fits the 87 characters.
+  EXPECT_LE(DefaultHairInfo(1.2345678901234567e-300).size(), 87u);
+  HairFileOptions long_unit;
+  long_unit.units_per_metre = 1.2345678901234567e-300;
+  std::string why;
+  EXPECT_TRUE(long_unit.IsValid(&why)) << why;
+  // An explicit info text is written as given.
+  HairFileOptions mine;
+  mine.info = "my own";
+  std::string b, error;
+  ASSERT_TRUE(EncodeHairFile(curves, mine, &b, &error)) << error;
+  EXPECT_EQ(std::string(b.data() + 40), "my own");
+}
+
 // Every encode-time error: one line, naming the field.
 TEST(HairFile, EncodeRejectsBadCurvesAndOptions) {
   auto expect_error = [](const HairCurves& c, const HairFileOptions& o, const std::string& field) {
@@ -432,21 +466,25 @@ TEST(HairFile, WriteAndReadFilesAtomically) {
 // ---------------------------------------------------------------------------------------------
 // OBJ, read back with Debian's tinyobjloader ('l' elements land in shapes[].lines).
 
-TEST(ObjExport, TinyObjLoaderReadsThePolylines) {
-  const HairCurves curves = MakeCurves({2, 6, 3, 17}, true, 21);
-  std::string text, error;
-  ASSERT_TRUE(EncodeObj(curves, &text, &error)) << error;
-  EXPECT_EQ(text.rfind("# ringlet hair curves: 4 strands, 28 points\n", 0), 0u);
-
+// Parses OBJ text with tinyobjloader (an independent reader).
+struct ParsedObj {
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
+};
+ParsedObj ParseObj(const std::string& text) {
+  ParsedObj obj;
   std::vector<tinyobj::material_t> materials;
   std::string warn, err;
   std::istringstream in(text);
-  ASSERT_TRUE(tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in)) << err;
+  EXPECT_TRUE(tinyobj::LoadObj(&obj.attrib, &obj.shapes, &materials, &warn, &err, &in)) << err;
+  return obj;
+}
+
+// Vertices and colours against the curves: tinyobjloader parses decimals with its own routine
+// (mantissa x power of ten in double, then float), so allow 2 float ulps instead of the
+// bit-exact strtof result.
+void ExpectObjVertices(const tinyobj::attrib_t& attrib, const HairCurves& curves) {
   ASSERT_EQ(attrib.vertices.size(), 3 * curves.points.size());
-  // tinyobjloader parses decimals with its own routine (mantissa x power of ten in double, then
-  // float), so allow 2 float ulps instead of the bit-exact strtof result.
   for (size_t i = 0; i < curves.points.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
       const float want = curves.points[i][c];
@@ -455,22 +493,144 @@ TEST(ObjExport, TinyObjLoaderReadsThePolylines) {
           << i << "," << c;
     }
   }
-  ASSERT_EQ(shapes.size(), 1u);
-  EXPECT_EQ(shapes[0].name, "hair");
-  const tinyobj::lines_t& lines = shapes[0].lines;
-  ASSERT_EQ(lines.num_line_vertices.size(), curves.point_counts.size());
   size_t next = 0;
   for (size_t k = 0; k < curves.point_counts.size(); ++k) {
-    ASSERT_EQ(static_cast<uint32_t>(lines.num_line_vertices[k]), curves.point_counts[k]);
     for (uint32_t i = 0; i < curves.point_counts[k]; ++i, ++next) {
-      EXPECT_EQ(lines.indices[next].vertex_index, static_cast<int>(next));  // 0-based in the API
       for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(attrib.colors[3 * next + c], curves.colors[k][c],
                     2 * std::numeric_limits<float>::epsilon());
       }
     }
   }
+}
+
+// Default: every segment of every strand is its own 2-vertex 'l' element, in order, root to
+// tip; the header states units and axes.
+TEST(ObjExport, TinyObjLoaderReadsEverySegment) {
+  const HairCurves curves = MakeCurves({2, 6, 3, 17}, true, 21);
+  std::string text, error;
+  ASSERT_TRUE(EncodeObj(curves, &text, &error)) << error;
+  EXPECT_EQ(text.rfind("# ringlet hair curves: 4 strands, 28 points\n", 0), 0u);
+  EXPECT_NE(text.find("\n# units: metres; axes: right-handed, z up"), std::string::npos);
+  EXPECT_NE(text.find("\n# one 2-vertex 'l' segment per edge, root to tip\n"), std::string::npos);
+  const ParsedObj obj = ParseObj(text);
+  ExpectObjVertices(obj.attrib, curves);
+  ASSERT_EQ(obj.shapes.size(), 1u);
+  EXPECT_EQ(obj.shapes[0].name, "hair");
+  const tinyobj::lines_t& lines = obj.shapes[0].lines;
+  // 1 + 5 + 2 + 16 = 24 segments, each (i, i + 1) inside a strand.
+  ASSERT_EQ(lines.num_line_vertices.size(), 24u);
+  size_t segment = 0;
+  int first = 0;
+  for (uint32_t count : curves.point_counts) {
+    for (uint32_t i = 0; i + 1 < count; ++i, ++segment) {
+      ASSERT_EQ(lines.num_line_vertices[segment], 2);
+      EXPECT_EQ(lines.indices[2 * segment].vertex_index, first + static_cast<int>(i));
+      EXPECT_EQ(lines.indices[2 * segment + 1].vertex_index, first + static_cast<int>(i) + 1);
+    }
+    first += static_cast<int>(count);
+  }
+  // Every 'l' line of the text has exactly two indices.
+  std::istringstream in(text);
+  std::string line;
+  int l_lines = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("l ", 0) != 0) continue;
+    ++l_lines;
+    std::istringstream words(line.substr(2));
+    int a = 0, b = 0, extra = 0;
+    EXPECT_TRUE(words >> a >> b) << line;
+    EXPECT_FALSE(words >> extra) << line;
+    EXPECT_EQ(b, a + 1) << line;
+  }
+  EXPECT_EQ(l_lines, 24);
+}
+
+// ObjExportOptions::polylines: one 'l' polyline per strand.
+TEST(ObjExport, PolylineOptionWritesOneLinePerStrand) {
+  const HairCurves curves = MakeCurves({2, 6, 3, 17}, true, 21);
+  ObjExportOptions options;
+  options.polylines = true;
+  std::string text, error;
+  ASSERT_TRUE(EncodeObj(curves, options, &text, &error)) << error;
+  EXPECT_NE(text.find("\n# one 'l' polyline per strand, root to tip\n"), std::string::npos);
+  const ParsedObj obj = ParseObj(text);
+  ExpectObjVertices(obj.attrib, curves);
+  ASSERT_EQ(obj.shapes.size(), 1u);
+  const tinyobj::lines_t& lines = obj.shapes[0].lines;
+  ASSERT_EQ(lines.num_line_vertices.size(), curves.point_counts.size());
+  size_t next = 0;
+  for (size_t k = 0; k < curves.point_counts.size(); ++k) {
+    ASSERT_EQ(static_cast<uint32_t>(lines.num_line_vertices[k]), curves.point_counts[k]);
+    for (uint32_t i = 0; i < curves.point_counts[k]; ++i, ++next) {
+      EXPECT_EQ(lines.indices[next].vertex_index, static_cast<int>(next));  // 0-based in the API
+    }
+  }
   EXPECT_EQ(next, curves.points.size());
+}
+
+// The body OBJ: a UV sphere per body sphere whose vertices lie on the sphere, closed and
+// outward (positive divergence-theorem volume, close to 4/3 pi r^3), and a mesh as it is.
+TEST(ObjExport, BodyObjHoldsTheSpheresAndMeshes) {
+  // A unit tetrahedron mesh (counter-clockwise from outside) and two spheres.
+  TriangleMesh tetra;
+  std::string error;
+  ASSERT_TRUE(TriangleMesh::Create({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)},
+                                   {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}, "tetra", &tetra,
+                                   &error))
+      << error;
+  Body body;
+  ASSERT_TRUE(Body::Create({{Vec3(0.1, -0.2, 0.3), 0.1, "head"}, {Vec3(0, 0, -0.4), 0.13, ""}},
+                           {tetra}, &body, &error))
+      << error;
+  std::string text;
+  EncodeBodyObj(body, &text);
+  EXPECT_NE(text.find("\n# units: metres; axes: right-handed, z up"), std::string::npos);
+  const ParsedObj obj = ParseObj(text);
+  ASSERT_EQ(obj.shapes.size(), 3u);
+  EXPECT_EQ(obj.shapes[0].name, "head");
+  EXPECT_EQ(obj.shapes[1].name, "sphere_1");
+  EXPECT_EQ(obj.shapes[2].name, "tetra");
+  // 48 meridians x 24 parallels: 23 rings of 48 vertices + 2 poles, 2 x 48 x 23 triangles.
+  const size_t sphere_vertices = 23 * 48 + 2, sphere_triangles = 2 * 48 * 23;
+  ASSERT_EQ(obj.attrib.vertices.size(), 3 * (2 * sphere_vertices + 4));
+  const auto vertex = [&](int i) {
+    return Vec3(obj.attrib.vertices[3 * i], obj.attrib.vertices[3 * i + 1],
+                obj.attrib.vertices[3 * i + 2]);
+  };
+  const std::vector<Sphere>& spheres = body.spheres();
+  for (int k = 0; k < 2; ++k) {
+    const tinyobj::mesh_t& mesh = obj.shapes[k].mesh;
+    ASSERT_EQ(mesh.num_face_vertices.size(), sphere_triangles);
+    double volume = 0.0;  // sum of signed tetrahedra (centre, a, b, c) / 6
+    for (size_t t = 0; t < sphere_triangles; ++t) {
+      const Vec3 a = vertex(mesh.indices[3 * t].vertex_index) - spheres[k].center;
+      const Vec3 b = vertex(mesh.indices[3 * t + 1].vertex_index) - spheres[k].center;
+      const Vec3 c = vertex(mesh.indices[3 * t + 2].vertex_index) - spheres[k].center;
+      for (const Vec3& v : {a, b, c}) {
+        // float parsing: within a few float ulps of the radius
+        EXPECT_NEAR(v.norm(), spheres[k].radius, 1e-6) << k << " " << t;
+      }
+      volume += a.dot(b.cross(c)) / 6.0;
+    }
+    // A polyhedron inscribed in the sphere: a little below 4/3 pi r^3 (0.5% at 48 x 24).
+    const double ball = 4.0 / 3.0 * M_PI * std::pow(spheres[k].radius, 3);
+    EXPECT_LT(volume, ball);
+    EXPECT_GT(volume, 0.99 * ball);
+  }
+  const tinyobj::mesh_t& mesh = obj.shapes[2].mesh;
+  ASSERT_EQ(mesh.num_face_vertices.size(), 4u);
+  const int base = static_cast<int>(2 * sphere_vertices);
+  // The first triangle as given: (0, 0, 0), (0, 1, 0), (1, 0, 0), in this order.
+  for (int c = 0; c < 3; ++c) EXPECT_GE(mesh.indices[c].vertex_index, base);
+  EXPECT_EQ(vertex(mesh.indices[0].vertex_index), Vec3(0, 0, 0));
+  EXPECT_EQ(vertex(mesh.indices[1].vertex_index), Vec3(0, 1, 0));
+  EXPECT_EQ(vertex(mesh.indices[2].vertex_index), Vec3(1, 0, 0));
+  EXPECT_EQ(vertex(mesh.indices[11].vertex_index), Vec3(0, 0, 1));  // last triangle (1, 2, 3)
+  // Empty body: the header only, no vertex.
+  EncodeBodyObj(Body(), &text);
+  EXPECT_EQ(text.find("\nv "), std::string::npos);
+  EXPECT_EQ(text.rfind("# ringlet body: 0 spheres", 0), 0u);
 }
 
 TEST(ObjExport, RejectsBadCurvesAndWritesAtomically) {

@@ -186,7 +186,8 @@ TEST(HairstyleJson, EveryOptionalField) {
     "wisps": {"strands_per_wisp": 7, "radius": 0.002, "packing_fraction": 0.5, "root_scale": 1.5,
               "tip_scale": 0.3, "profile_exponent": 2, "distance_exponent": 3, "jitter": 0.0005,
               "length_variation": 0.2, "frizz_amplitude": 0.001, "frizz_frequency": 20,
-              "points_per_strand": 9, "tip_taper": 0.5, "include_master": false,
+              "points_per_strand": 9, "tip_taper": 0.5, "tip_taper_length": 0.03,
+              "include_master": false,
               "spread_roots": false},
     "layers": {"count": 2, "thickness": 0.005},
     "contact": {"stiffness": 3.5, "samples_per_segment": 6},
@@ -230,6 +231,7 @@ TEST(HairstyleJson, EveryOptionalField) {
   EXPECT_EQ(s.wisps.frizz_frequency, 20.0);
   EXPECT_EQ(s.wisps.points_per_strand, 9);
   EXPECT_EQ(s.wisps.tip_taper, 0.5);
+  EXPECT_EQ(s.wisps.tip_taper_length, 0.03);
   EXPECT_FALSE(s.wisps.include_master);
   EXPECT_FALSE(s.spread_roots);
   EXPECT_EQ(s.layers.count, 2);
@@ -379,6 +381,11 @@ std::vector<BadCase> BadCases() {
        "wisps.strands_per_wisp",
        {}},
       {"zero_segments", With(R"("masters": {"segments": 0})"), "masters.segments", {}},
+      {"zero_tip_taper_length",
+       With(R"("wisps": {"tip_taper_length": 0})"),
+       "wisps.tip_taper_length",
+       {"> 0 (m)"}},
+      {"tip_taper_one", With(R"("wisps": {"tip_taper": 1})"), "wisps.tip_taper", {"[0, 1)"}},
       {"one_point_per_strand",
        With(R"("wisps": {"points_per_strand": 1})"),
        "wisps.points_per_strand",

@@ -125,6 +125,7 @@ TEST(Wisp, ChildrenStayInTheGeneralizedCylinder) {
   o.jitter = 2e-4;
   o.frizz_amplitude = 1e-4;
   o.frizz_frequency = 80.0;
+  o.tip_taper = 0.0;  // constant widths here (the taper has its own tests)
   const CrossSection section = SectionFromEccentricity(kFibreRadius, 0.0);
   const double rw = ResolveWispRadius(master, section, o);
   // Automatic radius: WispRadius(300, 50 um, Curliness(master)), several hundred um.
@@ -442,6 +443,8 @@ TEST(WispOptions, BadOptionsRejectedWithTheFieldName) {
       {[](WispOptions* o) { o->frizz_amplitude = -1.0; }, "frizz_amplitude"},
       {[](WispOptions* o) { o->frizz_frequency = -2.0; }, "frizz_frequency"},
       {[](WispOptions* o) { o->tip_taper = 1.0; }, "tip_taper"},
+      {[](WispOptions* o) { o->tip_taper_length = 0.0; }, "tip_taper_length"},
+      {[](WispOptions* o) { o->tip_taper_length = NAN; }, "tip_taper_length"},
   };
   std::string why;
   EXPECT_TRUE(WispOptions{}.IsValid(&why)) << why;
@@ -489,12 +492,14 @@ TEST(GenerateWisps, BadInputRejectedWithTheFieldName) {
 }
 
 TEST(Wisp, TaperedWidths) {
-  // width(s) = 2 r (1 - taper s / L_k): at the root 2r, at the tip 2r (1 - taper).
+  // A taper length beyond the strand's length tapers the whole strand: width(s) = 2 r (1 - taper
+  // s / L_k), at the root 2r, at the tip 2r (1 - taper).
   const FramedCentreline master = Master(0.1, 5, 2, Vec3::Zero());
   WispOptions o;
   o.strands_per_wisp = 3;
   o.points_per_strand = 11;
   o.tip_taper = 0.6;
+  o.tip_taper_length = 1.0;
   HairCurves h;
   AppendWisp(master, SectionFromEccentricity(kFibreRadius, 0.0), 1e-3, o, 3, nullptr, &h);
   for (int k = 0; k < 3; ++k) {
@@ -502,6 +507,42 @@ TEST(Wisp, TaperedWidths) {
     EXPECT_FLOAT_EQ(h.widths[k * 11 + 5], 2 * kFibreRadius * (1 - 0.6 * 0.5));
     EXPECT_FLOAT_EQ(h.widths[k * 11 + 10], 2 * kFibreRadius * 0.4);
   }
+}
+
+TEST(Wisp, DefaultTaperNarrowsTheLastSixCentimetres) {
+  // The defaults (wisp.h): full diameter up to 6 cm before the tip, then linear down to 1/5 of it.
+  // The master (strand 0, include_master) has the master's length 0.25 m and 26 points spaced
+  // 1 cm: the taper starts at s = 0.19 m (point 19); point 22 (s = 0.22 m) is half-way,
+  // 1 - 0.8 x 0.5 = 0.6; the tip 1 - 0.8 = 0.2 (hand-computed).
+  const FramedCentreline master = Master(0.25, 10, 5, Vec3::Zero());
+  WispOptions o;
+  o.strands_per_wisp = 4;
+  o.points_per_strand = 26;
+  ASSERT_EQ(o.tip_taper, 0.8);
+  ASSERT_EQ(o.tip_taper_length, 0.06);
+  HairCurves h;
+  AppendWisp(master, SectionFromEccentricity(kFibreRadius, 0.0), 1e-3, o, 5, nullptr, &h);
+  ASSERT_EQ(h.NumStrands(), 4);
+  const float d = static_cast<float>(2 * kFibreRadius);
+  EXPECT_EQ(h.widths[0], d);
+  EXPECT_EQ(h.widths[19], d);
+  EXPECT_FLOAT_EQ(h.widths[22], d * 0.6f);
+  EXPECT_FLOAT_EQ(h.widths[25], d * 0.2f);
+  // Every child (length 0.25 (1 - 0.1 u) > 6 cm): full at the root, 0.2 at the tip, never
+  // growing along the strand, and full diameter on its first 15 cm (0.9 x 0.25 - 0.06 m).
+  for (int k = 0; k < 4; ++k) {
+    const float* w = h.widths.data() + 26 * k;
+    EXPECT_EQ(w[0], d);
+    EXPECT_FLOAT_EQ(w[25], d * 0.2f);
+    for (int j = 1; j < 26; ++j) EXPECT_LE(w[j], w[j - 1]) << k << " " << j;
+    for (int j = 0; j <= 15; ++j) EXPECT_EQ(w[j], d) << k << " " << j;
+  }
+  // WidthTaperFactor itself, at hand-computed points (L_c = 0.1 m, l_t = 0.06 m).
+  EXPECT_EQ(WidthTaperFactor(o, 0.04, 0.1), 1.0);
+  EXPECT_NEAR(WidthTaperFactor(o, 0.07, 0.1), 1.0 - 0.8 * 0.5, 1e-15);
+  EXPECT_NEAR(WidthTaperFactor(o, 0.1, 0.1), 0.2, 1e-15);
+  // A strand shorter than the taper length tapers over its whole length.
+  EXPECT_NEAR(WidthTaperFactor(o, 0.01, 0.02), 1.0 - 0.8 * 0.5, 1e-15);
 }
 
 }  // namespace

@@ -54,6 +54,14 @@ struct HairOptics {
 /// Black hair ~8 eumelanin, brown ~1.3, blonde ~0.3, red: pheomelanin ~1-3 (dimensionless).
 Rgb AbsorptionFromMelanin(double eumelanin, double pheomelanin);
 
+/// A display colour (linear RGB in (0, 1]) for hair with these melanins, for viewers that draw
+/// flat-coloured curves: exp(-3 sigma_a) per channel, sigma_a = AbsorptionFromMelanin, the
+/// transmittance of a path of 3 fibre radii through the cortex (between the TT path's chord of
+/// 2 radii and the TRT path's 4 at normal incidence; Chiang et al. 2016, eq. 4). A simple
+/// mapping, not a rendered colour: the exporters write it (.hair colour array, USD
+/// primvars:displayColor, OBJ vertex colours) and the studio draws with it.
+Rgb MelaninDisplayColour(double eumelanin, double pheomelanin);
+
 /// Hair fibre scattering with FibreScattering's conventions (local frame x = tangent, phi_o =
 /// pi/2, h = sin(gamma_o); f includes every cosine, so the white furnace integral of f is <= 1).
 ///

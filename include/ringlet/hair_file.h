@@ -14,7 +14,8 @@
 // points (3 floats per point), thickness (float per point), transparency (float per point),
 // colour (3 floats per point).
 //
-// The format has no unit. ringlet writes metres by default (see HairFileOptions::units_per_metre).
+// The format has no unit. ringlet writes metres by default (see HairFileOptions::units_per_metre)
+// and states the unit it used in the info text (DefaultHairInfo).
 #pragma once
 
 #include <string>
@@ -33,8 +34,9 @@ struct HairFileOptions {
   /// says so in the info field. Must be finite and > 0. Reading needs the same value back.
   double units_per_metre = 1.0;
   /// Free text stored in the header's 88-byte info field: printable ASCII, at most 87
-  /// characters (the 88th byte is the terminating zero).
-  std::string info = "ringlet hair curves; metres; z up";
+  /// characters (the 88th byte is the terminating zero). Empty (the default) writes
+  /// DefaultHairInfo(units_per_metre), which states the unit actually used.
+  std::string info;
   /// Store the per-point thickness array (fibre diameter, in file units). When false only the
   /// header's default thickness (the mean width) is stored and a reader gets that everywhere.
   bool store_thickness = true;
@@ -45,6 +47,12 @@ struct HairFileOptions {
   /// True if the options can be used; otherwise *why (if given) names the field and the problem.
   bool IsValid(std::string* why) const;
 };
+
+/// The info text ringlet writes by default: "ringlet hair curves; U units per metre (NAME); z up;
+/// thickness: diameter", U the shortest decimal of units_per_metre ("1 unit per metre" for 1)
+/// and NAME metres, centimetres or millimetres for 1, 100 and 1000 (left out otherwise). At most
+/// 87 characters for any finite units_per_metre > 0. Readers (the Blender add-on) parse U back.
+std::string DefaultHairInfo(double units_per_metre);
 
 /// Encodes curves as the bytes of a .hair file into *bytes. The segments array is left out when
 /// every strand has the same number of points (the header's default segment count says it).

@@ -86,6 +86,12 @@ bool ParseRenderSettingsText(const std::string& text, RenderSettings* settings,
 bool LoadRenderSettings(const std::string& path, RenderSettings* settings, std::string* error,
                         bool required = false);
 
+/// Gives every strand of curves the display colour of the settings' melanins
+/// (MelaninDisplayColour(eumelanin, pheomelanin), one colour per strand), which the exporters
+/// write (.hair colour array, USD primvars:displayColor, OBJ vertex colours). The renderer does
+/// not read it (it computes absorption from the melanins itself).
+void SetMelaninColours(const RenderSettings& settings, HairCurves* curves);
+
 /// "path_traced" / "fibre_transmittance" -> ShadowMode; false for other names.
 bool ParseShadowMode(const std::string& name, ShadowMode* mode);
 /// "chiang2016" / "marschner2003" -> HairScatteringModel; false for other names.

@@ -85,15 +85,28 @@ struct WispOptions {
   double frizz_frequency = 50.0;
   /// Points per child strand, equally spaced in arc length, root and tip included (>= 2).
   int points_per_strand = 32;
-  /// Width taper: width(s) = 2 r (1 - tip_taper s / L_c), r the mean fibre radius. In [0, 1).
-  /// Real hair keeps its diameter nearly to the tip, hence 0.
-  double tip_taper = 0.0;
+  /// Width taper toward the tip over the last tip_taper_length of each child (WidthTaperFactor):
+  /// the diameter is 2 r up to arc length L_c - l_t and falls linearly to 2 r (1 - tip_taper) at
+  /// the tip, with l_t = min(tip_taper_length, L_c) and r the mean fibre radius. tip_taper in
+  /// [0, 1) (0: no taper), tip_taper_length > 0 (m; >= the strand length: the whole strand).
+  /// Defaults: an uncut hair's distal end narrows over its last 6-8 cm (Hutchinson & Thompson,
+  /// "The cross-sectional size and shape of human terminal scalp hair", Br. J. Dermatol. 136,
+  /// 1997: from the tip toward the scalp the size increases over ~6-8 cm); we take 6 cm and a tip
+  /// at 1/5 of the diameter (a pointed end at the strands' sampling; cut hair has blunter ends:
+  /// lower tip_taper).
+  double tip_taper = 0.8;
+  double tip_taper_length = 0.06;
   /// If true the first strand of each wisp is the master itself (full length, no offset).
   bool include_master = true;
 
   /// True when every field is in range; otherwise says which field and what was expected.
   bool IsValid(std::string* why) const;
 };
+
+/// The width factor of WispOptions' tip taper at arc length s of a child of length L_c (m):
+/// 1 for s <= L_c - l_t, 1 - tip_taper (s - (L_c - l_t)) / l_t beyond, l_t =
+/// min(tip_taper_length, L_c). A child's width at s is 2 r times this.
+double WidthTaperFactor(const WispOptions& options, double s, double child_length);
 
 /// The radius profile factor root_scale + (tip_scale - root_scale) (s/L)^profile_exponent for
 /// arc length fraction s/L in [0, 1] (dimensionless).

@@ -164,7 +164,7 @@ void WriteChild(const FramedCentreline& master, double fibre_radius, double wisp
       }
     }
     points[j] = x.cast<float>();
-    widths[j] = static_cast<float>(2.0 * fibre_radius * (1.0 - o.tip_taper * s / child_length));
+    widths[j] = static_cast<float>(2.0 * fibre_radius * WidthTaperFactor(o, s, child_length));
   }
 }
 
@@ -267,7 +267,15 @@ bool WispOptions::IsValid(std::string* why) const {
          positive(distance_exponent, "distance_exponent") && non_negative(jitter, "jitter") &&
          unit_interval(length_variation, "length_variation") &&
          non_negative(frizz_amplitude, "frizz_amplitude") &&
-         non_negative(frizz_frequency, "frizz_frequency") && unit_interval(tip_taper, "tip_taper");
+         non_negative(frizz_frequency, "frizz_frequency") && unit_interval(tip_taper, "tip_taper") &&
+         positive(tip_taper_length, "tip_taper_length");
+}
+
+double WidthTaperFactor(const WispOptions& options, double s, double child_length) {
+  const double taper_length = std::min(options.tip_taper_length, child_length);
+  const double into_taper = s - (child_length - taper_length);
+  if (into_taper <= 0.0) return 1.0;
+  return 1.0 - options.tip_taper * std::min(into_taper / taper_length, 1.0);
 }
 
 namespace {

@@ -3,7 +3,9 @@
 // on any host.
 #include "ringlet/hair_file.h"
 
+#include <algorithm>
 #include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -74,6 +76,18 @@ inline float ToFileUnits(float v, double units_per_metre) {
 }
 
 }  // namespace
+
+std::string DefaultHairInfo(double units_per_metre) {
+  // The shortest decimal that reads back as units_per_metre (std::to_chars: no locale).
+  char number[32];
+  const auto result = std::to_chars(number, number + sizeof(number), units_per_metre);
+  std::string text = "ringlet hair curves; " + std::string(number, result.ptr);
+  text += units_per_metre == 1.0 ? " unit per metre" : " units per metre";
+  if (units_per_metre == 1.0) text += " (metres)";
+  if (units_per_metre == 100.0) text += " (centimetres)";
+  if (units_per_metre == 1000.0) text += " (millimetres)";
+  return text + "; z up; thickness: diameter";
+}
 
 bool HairFileOptions::IsValid(std::string* why) const {
   if (!std::isfinite(units_per_metre) || !(units_per_metre > 0.0)) {
@@ -154,7 +168,8 @@ bool EncodeHairFile(const HairCurves& curves, const HairFileOptions& options, st
   for (int c = 0; c < 3; ++c) {
     StoreFloat(p + kOffsetDefaultColor + 4 * c, static_cast<float>(mean_color[c]));
   }
-  std::memcpy(p + kOffsetInfo, options.info.data(), options.info.size());  // rest stays zero
+  const std::string info = options.info.empty() ? DefaultHairInfo(scale) : options.info;
+  std::memcpy(p + kOffsetInfo, info.data(), std::min(info.size(), kInfoSize - 1));  // rest zero
   p += kHeaderSize;
   // Arrays, in the order of the specification.
   if (with_segments) {

@@ -254,7 +254,8 @@ bool ParseWisps(Reader& reader, const json& document, Hairstyle* style) {
                           {"strands_per_wisp", "radius", "packing_fraction", "root_scale",
                            "tip_scale", "profile_exponent", "distance_exponent", "jitter",
                            "length_variation", "frizz_amplitude", "frizz_frequency",
-                           "points_per_strand", "tip_taper", "include_master",
+                           "points_per_strand", "tip_taper", "tip_taper_length",
+                           "include_master",
                            "spread_roots", "children"}) ||
       !reader.ReadInteger(*wisps, path, "strands_per_wisp", 1, 100000, &w.strands_per_wisp) ||
       !reader.ReadNumber(*wisps, path, "packing_fraction", kFraction, false,
@@ -274,6 +275,8 @@ bool ParseWisps(Reader& reader, const json& document, Hairstyle* style) {
                          &w.frizz_frequency) ||
       !reader.ReadInteger(*wisps, path, "points_per_strand", 2, 65536, &w.points_per_strand) ||
       !reader.ReadNumber(*wisps, path, "tip_taper", kUnitInterval, false, &w.tip_taper) ||
+      !reader.ReadNumber(*wisps, path, "tip_taper_length", kPositiveLength, false,
+                         &w.tip_taper_length) ||
       !reader.ReadBool(*wisps, path, "include_master", &w.include_master) ||
       !reader.ReadBool(*wisps, path, "spread_roots", &style->spread_roots)) {
     return false;

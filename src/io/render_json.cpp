@@ -388,4 +388,9 @@ bool MakeRenderScene(const RenderSettings& settings, const HairCurves* hair,
   return true;
 }
 
+void SetMelaninColours(const RenderSettings& settings, HairCurves* curves) {
+  const Vec3f colour = MelaninDisplayColour(settings.eumelanin, settings.pheomelanin).cast<float>();
+  curves->colors.assign(curves->point_counts.size(), colour);
+}
+
 }  // namespace ringlet

@@ -429,6 +429,11 @@ Rgb AbsorptionFromMelanin(double eumelanin, double pheomelanin) {
   return eumelanin * Rgb(0.419, 0.697, 1.37) + pheomelanin * Rgb(0.187, 0.4, 1.05);
 }
 
+Rgb MelaninDisplayColour(double eumelanin, double pheomelanin) {
+  const Rgb sigma_a = AbsorptionFromMelanin(eumelanin, pheomelanin);
+  return (-3.0 * sigma_a).array().exp().matrix();
+}
+
 std::string CheckHairOptics(const HairOptics& optics) {
   std::ostringstream why;
   auto in_unit = [](double x) { return std::isfinite(x) && x > 0.0 && x <= 1.0; };
