@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -17,13 +18,19 @@
 namespace ringlet {
 namespace {
 
-// An example hairstyle with `masters` masters (the file's body, scalp, hair and wisps).
+// An example hairstyle with `masters` masters (the file's body, scalp, hair and wisps). Each file
+// is loaded once (a mesh body's distance grid takes a while to build); the body is shared.
 Hairstyle Example(const std::string& name, int masters) {
-  Hairstyle style;
-  std::string error;
-  EXPECT_TRUE(LoadHairstyle(std::string(RINGLET_EXAMPLES_DIR) + "/hairstyles/" + name + ".json",
-                            &style, &error))
-      << error;
+  static std::map<std::string, Hairstyle> loaded;
+  if (!loaded.count(name)) {
+    Hairstyle style;
+    std::string error;
+    EXPECT_TRUE(LoadHairstyle(
+        std::string(RINGLET_EXAMPLES_DIR) + "/hairstyles/" + name + ".json", &style, &error))
+        << error;
+    loaded[name] = style;
+  }
+  Hairstyle style = loaded[name];
   style.roots.count = masters;
   return style;
 }
