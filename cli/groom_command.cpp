@@ -35,58 +35,13 @@
 namespace ringlet::cli {
 namespace {
 
-// The files of a groom, by format name (--formats).
-struct OutputFile {
-  const char* format;
-  const char* name;
-};
-constexpr OutputFile kOutputs[] = {
-    {"hair", "strands.hair"},   // Cem Yuksel's binary hair format
-    {"usda", "strands.usda"},   // USD text, BasisCurves
-    {"obj", "strands.obj"},     // OBJ line segments
-    {"body", "body.obj"},       // the body as a triangle mesh (OBJ), for other tools
-    {"json", "masters.json"},   // the solved master strands and the summary
-};
-
 struct GroomArgs {
   std::string hairstyle_path;
   std::string output_dir;
-  std::string formats = "hair,usda,obj,body,json";
-  bool force = false;
+  OutputOptions outputs;  // --formats, --hair-units-per-metre, --force, --render, --spp, ...
   bool quiet = false;
   int threads = 0;
-  double hair_units_per_metre = 1.0;
-  bool render = false;  // also write render.png
-  int spp = 0;          // render overrides; 0 = the file's setting
-  int width = 0;
-  int height = 0;
 };
-
-// The image of --render, next to the other files.
-constexpr const char* kRenderName = "render.png";
-
-// "hair,usda" -> {"hair", "usda"}; unknown names are an error naming the valid ones.
-bool ParseFormats(const std::string& text, std::set<std::string>* formats, std::string* error) {
-  std::stringstream stream(text);
-  std::string item;
-  std::string valid;
-  for (const OutputFile& o : kOutputs) valid += std::string(valid.empty() ? "" : ", ") + o.format;
-  while (std::getline(stream, item, ',')) {
-    bool known = false;
-    for (const OutputFile& o : kOutputs) known = known || item == o.format;
-    if (!known) {
-      *error = "--formats: unknown format \"" + item + "\" (expected a comma-separated list of " +
-               valid + ")";
-      return false;
-    }
-    formats->insert(item);
-  }
-  if (formats->empty()) {
-    *error = "--formats: expected at least one of " + valid;
-    return false;
-  }
-  return true;
-}
 
 // masters.json: the result document of the masters (docs/scene-format.md, "Result format") with
 // a "groom" object of counts and times.
@@ -127,7 +82,8 @@ std::string MastersJson(const Groom& groom, double seconds) {
 int RunGroom(const GroomArgs& args) {
   std::string error;
   std::set<std::string> formats;
-  if (!ParseFormats(args.formats, &formats, &error)) {
+  HairFileOptions hair_options;
+  if (!CheckOutputOptions(args.outputs, &formats, &hair_options, &error)) {
     PrintError(error);
     return kExitBadInput;
   }
@@ -146,33 +102,17 @@ int RunGroom(const GroomArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
-  if (args.spp) render_settings.options.samples_per_pixel = args.spp;
-  if (args.width) render_settings.options.width = args.width;
-  if (args.height) render_settings.options.height = args.height;
-  if (!args.render && (args.spp || args.width || args.height)) {
-    PrintError(std::string(args.spp ? "--spp" : args.width ? "--width" : "--height") +
-               ": only with --render");
-    return kExitBadInput;
-  }
-  if (args.render &&
+  ApplyRenderOverrides(args.outputs, &render_settings);
+  if (args.outputs.render &&
       !CheckRenderSize(render_settings.options.width, render_settings.options.height,
                        render_settings.options.samples_per_pixel, &error)) {
     PrintError("--width, --height, --spp (or the file's render settings): " + error);
     return kExitBadInput;
   }
-  std::vector<std::string> names;
-  for (const OutputFile& o : kOutputs) {
-    if (formats.count(o.format)) names.push_back(o.name);
-  }
-  if (args.render) names.push_back(kRenderName);
-  if (!CheckOutputDirectory(args.output_dir, names, args.force, &error)) {
+  std::vector<std::string> names = StrandOutputNames(formats);
+  if (args.outputs.render) names.push_back(kRenderName);
+  if (!CheckOutputDirectory(args.output_dir, names, args.outputs.force, &error)) {
     PrintError(error);
-    return kExitBadInput;
-  }
-  HairFileOptions hair_options;
-  hair_options.units_per_metre = args.hair_units_per_metre;
-  if (!hair_options.IsValid(&error)) {
-    PrintError("--hair-units-per-metre: " + error);
     return kExitBadInput;
   }
 
@@ -189,7 +129,7 @@ int RunGroom(const GroomArgs& args) {
   // nothing.
   Image image;
   RenderStats render_stats;
-  if (args.render) {
+  if (args.outputs.render) {
     const RenderJob job =
         HairstyleRenderJob(style, &groom.strands, render_settings, args.threads, args.quiet);
     if (!RenderJobImage(job, &image, &render_stats, &error)) {
@@ -202,30 +142,14 @@ int RunGroom(const GroomArgs& args) {
   // written.
   const auto write_start = std::chrono::steady_clock::now();
   std::vector<std::pair<std::string, std::string>> files;  // (name, contents)
-  for (const OutputFile& o : kOutputs) {
-    if (!formats.count(o.format)) continue;
-    std::string contents;
-    bool ok = true;
-    const std::string format = o.format;
-    if (format == "hair") {
-      ok = EncodeHairFile(groom.strands, hair_options, &contents, &error);
-    } else if (format == "usda") {
-      ok = EncodeUsda(groom.strands, UsdExportOptions{}, &contents, &error);
-    } else if (format == "obj") {
-      ok = EncodeObj(groom.strands, &contents, &error);
-    } else if (format == "body") {
-      EncodeBodyObj(*style.body, &contents);
-    } else {
-      contents = MastersJson(groom, SecondsSince(start));
-    }
-    if (!ok) {
-      PrintError(std::string(o.name) + ": " + error);
-      return kExitBadInput;
-    }
-    files.emplace_back(o.name, std::move(contents));
+  if (!EncodeStrandOutputs(
+          groom.strands, formats, hair_options, style.body.get(),
+          [&] { return MastersJson(groom, SecondsSince(start)); }, &files, &error)) {
+    PrintError(error);
+    return kExitBadInput;
   }
   const std::string image_path = (std::filesystem::path(args.output_dir) / kRenderName).string();
-  if (args.render) {
+  if (args.outputs.render) {
     std::string png;
     if (!EncodePng(image, render_settings.exposure, &png, &error)) {
       PrintError(image_path + ": " + error);
@@ -234,7 +158,7 @@ int RunGroom(const GroomArgs& args) {
     files.emplace_back(kRenderName, std::move(png));
   }
   // All files or none (a failure while renaming says which ones are missing).
-  if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
+  if (!WriteOutputFiles(args.output_dir, files, args.outputs.force, &error)) {
     PrintError(error);
     return kExitBadInput;
   }
@@ -266,7 +190,7 @@ int RunGroom(const GroomArgs& args) {
           "`ringlet style` to apply them)\n",
           operations.size());
     }
-    if (args.render) {
+    if (args.outputs.render) {
       PrintRenderSummary(image, render_settings.options.samples_per_pixel, render_stats,
                          image_path);
     }
@@ -308,23 +232,10 @@ Command AddGroomCommand(CLI::App* parent) {
       ->required();
   app->add_option("-o,--output", args->output_dir, "Output directory (created if missing)")
       ->required();
-  app->add_option("--formats", args->formats,
-                  "Comma-separated files to write: hair, usda, obj, body, json (default: all)");
-  app->add_option("--hair-units-per-metre", args->hair_units_per_metre,
-                  "Length unit of the .hair file per metre (default 1: metres; 100: cm)");
-  app->add_flag("--force", args->force, "Overwrite existing output files");
+  AddOutputOptions(app, &args->outputs, "the groom");
   app->add_option("--threads", args->threads,
                   "Worker threads (default 0: all cores); results do not depend on it")
       ->check(CLI::Range(0, 1024));
-  app->add_flag("--render", args->render,
-                "Also render the groom (hair and body) into render.png with the file's \"render\" "
-                "settings (docs/hairstyle-format.md)");
-  app->add_option("--spp", args->spp, "With --render: samples per pixel (default: the file's)")
-      ->check(CLI::Range(1, 1 << 20));
-  app->add_option("--width", args->width, "With --render: image width in pixels")
-      ->check(CLI::Range(1, 16384));
-  app->add_option("--height", args->height, "With --render: image height in pixels")
-      ->check(CLI::Range(1, 16384));
   app->add_flag("-q,--quiet", args->quiet,
                 "Print no summary, progress or warning (errors still go to stderr)");
   return Command{app, [args] { return RunGroom(*args); }};

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 #include <system_error>
@@ -52,11 +53,9 @@ struct StyleArgs {
   std::string bad_operation;  // first unparsable operation argument, reported after parsing
   bool settle = false;
   int steps = 10;
-  bool force = false;
+  OutputOptions outputs;  // --formats, --hair-units-per-metre, --force, --render, --spp, ...
   bool quiet = false;
-  bool render = false;  // also write render.png of the styled hair
   int threads = 0;
-  double hair_units_per_metre = 1.0;
 };
 
 // "A,B,C" -> numbers (std::stod: "inf" and "nan" are read, and rejected later by the checks).
@@ -89,12 +88,15 @@ void BadArgument(StyleArgs* args, const std::string& flag, const std::string& ex
   }
 }
 
-// The names of the files to write, in order, for `grow_steps` grow steps in all.
-std::vector<std::string> OutputNames(int grow_steps) {
-  std::vector<std::string> names = {"strands.hair", "strands.usda", "strands.obj", "body.obj",
-                                    "masters.json"};
-  for (int t = 1; t <= grow_steps; ++t) names.push_back(Format("step_%03d.hair", t));
-  if (grow_steps > 0) names.push_back("grow.usda");
+// The names of the files to write, in order, for `grow_steps` grow steps in all: the strand
+// files of `formats`, and for a grow its steps as .hair files (with "hair") and as one
+// time-sampled USD file (with "usda").
+std::vector<std::string> OutputNames(const std::set<std::string>& formats, int grow_steps) {
+  std::vector<std::string> names = StrandOutputNames(formats);
+  if (formats.count("hair")) {
+    for (int t = 1; t <= grow_steps; ++t) names.push_back(Format("step_%03d.hair", t));
+  }
+  if (grow_steps > 0 && formats.count("usda")) names.push_back("grow.usda");
   return names;
 }
 
@@ -143,10 +145,10 @@ int RunStyle(const StyleArgs& args) {
       return kExitBadInput;
     }
   }
+  std::set<std::string> formats;
   HairFileOptions hair_options;
-  hair_options.units_per_metre = args.hair_units_per_metre;
-  if (!hair_options.IsValid(&error)) {
-    PrintError("--hair-units-per-metre: " + error);
+  if (!CheckOutputOptions(args.outputs, &formats, &hair_options, &error)) {
+    PrintError(error);
     return kExitBadInput;
   }
   Hairstyle style;
@@ -172,7 +174,7 @@ int RunStyle(const StyleArgs& args) {
   for (const PlannedOperation& planned : plan) {
     if (planned.op.kind == StyleOperation::Kind::kGrow) grow_steps += planned.op.grow_steps;
   }
-  std::vector<std::string> names = OutputNames(grow_steps);
+  std::vector<std::string> names = OutputNames(formats, grow_steps);
   // The file's render settings (docs/hairstyle-format.md, "render"), checked now with or
   // without --render (as `ringlet groom` does): their melanins colour the written strands.
   RenderSettings render_settings;
@@ -180,8 +182,15 @@ int RunStyle(const StyleArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
-  if (args.render) names.push_back("render.png");
-  if (!CheckOutputDirectory(args.output_dir, names, args.force, &error)) {
+  ApplyRenderOverrides(args.outputs, &render_settings);
+  if (args.outputs.render &&
+      !CheckRenderSize(render_settings.options.width, render_settings.options.height,
+                       render_settings.options.samples_per_pixel, &error)) {
+    PrintError("--width, --height, --spp (or the file's render settings): " + error);
+    return kExitBadInput;
+  }
+  if (args.outputs.render) names.push_back(kRenderName);
+  if (!CheckOutputDirectory(args.output_dir, names, args.outputs.force, &error)) {
     PrintError(error);
     return kExitBadInput;
   }
@@ -242,7 +251,7 @@ int RunStyle(const StyleArgs& args) {
   // hair type's: wetting swells both semi-axes by the same factor.
   Image image;
   RenderStats render_stats;
-  if (args.render) {
+  if (args.outputs.render) {
     const RenderJob job =
         HairstyleRenderJob(style, &strands, render_settings, args.threads, args.quiet);
     if (!RenderJobImage(job, &image, &render_stats, &error)) {
@@ -263,43 +272,36 @@ int RunStyle(const StyleArgs& args) {
     files.emplace_back(name, std::move(contents));
     return true;
   };
-  bool ok = encode("strands.hair", [&](std::string* t) {
-    return EncodeHairFile(strands, hair_options, t, &error);
-  });
-  ok = ok && encode("strands.usda", [&](std::string* t) {
-    return EncodeUsda(strands, UsdExportOptions{}, t, &error);
-  });
-  ok = ok && encode("strands.obj", [&](std::string* t) { return EncodeObj(strands, t, &error); });
-  ok = ok && encode("body.obj", [&](std::string* t) {
-    EncodeBodyObj(*style.body, t);
-    return true;
-  });
-  ok = ok && encode("masters.json", [&](std::string* t) {
-    *t = MastersJson(state, reports, plan, SecondsSince(start));
-    return true;
-  });
-  for (size_t k = 0; ok && k < grow_frames.size(); ++k) {
+  bool ok = true;
+  if (!EncodeStrandOutputs(
+          strands, formats, hair_options, style.body.get(),
+          [&] { return MastersJson(state, reports, plan, SecondsSince(start)); }, &files,
+          &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  for (size_t k = 0; ok && formats.count("hair") && k < grow_frames.size(); ++k) {
     ok = encode(Format("step_%03d.hair", static_cast<int>(k + 1)), [&](std::string* t) {
       return EncodeHairFile(grow_frames[k], hair_options, t, &error);
     });
   }
-  if (ok && !grow_frames.empty()) {
+  if (ok && !grow_frames.empty() && formats.count("usda")) {
     ok = encode("grow.usda", [&](std::string* t) {
       return EncodeUsdaSequence(grow_frames, UsdExportOptions{}, t, &error);
     });
   }
   if (!ok) return kExitBadInput;
-  const std::string image_path = (std::filesystem::path(args.output_dir) / "render.png").string();
-  if (args.render) {
+  const std::string image_path = (std::filesystem::path(args.output_dir) / kRenderName).string();
+  if (args.outputs.render) {
     std::string png;
     if (!EncodePng(image, render_settings.exposure, &png, &error)) {
       PrintError(image_path + ": " + error);
       return kExitBadInput;
     }
-    files.emplace_back("render.png", std::move(png));
+    files.emplace_back(kRenderName, std::move(png));
   }
   // All files or none (a failure while renaming says which ones are missing).
-  if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
+  if (!WriteOutputFiles(args.output_dir, files, args.outputs.force, &error)) {
     PrintError(error);
     return kExitBadInput;
   }
@@ -309,7 +311,7 @@ int RunStyle(const StyleArgs& args) {
     std::printf("styled %zu masters, %d strands, %d points; total %s -> %s\n",
                 state.solutions.size(), strands.NumStrands(), strands.NumPoints(),
                 FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
-    if (args.render) {
+    if (args.outputs.render) {
       PrintRenderSummary(image, render_settings.options.samples_per_pixel, render_stats,
                          image_path);
     }
@@ -508,12 +510,7 @@ Command AddStyleCommand(CLI::App* parent) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app->add_option("--steps", args->steps, "Steps of --grow (default 10)")
       ->check(CLI::Range(1, 1000));
-  app->add_option("--hair-units-per-metre", args->hair_units_per_metre,
-                  "Length unit of the .hair files per metre (default 1: metres; 100: cm)");
-  app->add_flag("--render", args->render,
-                "Also render the styled hair (and body) into render.png with the file's \"render\" "
-                "settings (docs/rendering.md)");
-  app->add_flag("--force", args->force, "Overwrite existing output files");
+  AddOutputOptions(app, &args->outputs, "the styled hair");
   app->add_option("--threads", args->threads,
                   "Worker threads (default 0: all cores); results do not depend on it")
       ->check(CLI::Range(0, 1024));

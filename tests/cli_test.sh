@@ -324,6 +324,47 @@ sys.exit(0 if ops == ["wet", "cut", "dry", "grow"] else 1)
 ' "$work/style_out/masters.json"; then ok; else
   fail "style: operations not reported in command-line order"
 fi
+# The output options of `groom` (one code, cli/outputs.h): --formats chooses the strand files and
+# with them the grow files (steps as .hair with "hair", grow.usda with "usda");
+# --hair-units-per-metre scales every .hair coordinate (read back here from the file's layout,
+# docs/file-formats.md: 128-byte header, optional uint16 segment counts, float32 points).
+run style "$work/style.json" --cut-z -0.15 --grow 0.01 --steps 2 --formats hair,json \
+  --hair-units-per-metre 100 -o "$work/style_cm"
+expect_rc "style --formats hair,json --hair-units-per-metre 100" 0
+listed=$(cd "$work/style_cm" && ls | tr '\n' ' ')
+[ "$listed" = "masters.json step_001.hair step_002.hair strands.hair " ] && ok ||
+  fail "style --formats hair,json wrote: $listed"
+run style "$work/style.json" --cut-z -0.15 --grow 0.01 --steps 2 --formats hair,usda \
+  -o "$work/style_m"
+expect_rc "style --formats hair,usda" 0
+listed=$(cd "$work/style_m" && ls | tr '\n' ' ')
+[ "$listed" = "grow.usda step_001.hair step_002.hair strands.hair strands.usda " ] && ok ||
+  fail "style --formats hair,usda wrote: $listed"
+if "$PYTHON" - "$work/style_m" "$work/style_cm" <<'EOF' >"$work/check" 2>&1; then ok; else
+import struct, sys
+def points(path):
+    data = open(path, "rb").read()
+    strands, count, bits = struct.unpack("<III", data[4:16])
+    at = 128 + (2 * strands if bits & 1 else 0)
+    return struct.unpack("<%df" % (3 * count), data[at:at + 12 * count])
+for name in ["strands.hair", "step_001.hair", "step_002.hair"]:
+    m, cm = points(sys.argv[1] + "/" + name), points(sys.argv[2] + "/" + name)
+    assert len(m) == len(cm) > 0, name
+    # float32 rounding of x and of 100 x: relative 2^-23 each.
+    worst = max(abs(c - 100 * x) for x, c in zip(m, cm))
+    assert worst <= 1e-5 * max(abs(c) for c in cm), (name, worst)
+EOF
+  fail "style --hair-units-per-metre 100: coordinates not 100 x metres: $(cat "$work/check")"
+fi
+run style "$work/style.json" --wet --formats hair,fbx -o "$work/style_bad/x"
+expect_rc "style unknown --formats" 1
+expect_one_error_line "style unknown --formats" '--formats: unknown format "fbx"'
+run style "$work/style.json" --wet --spp 4 -o "$work/style_bad/x"
+expect_rc "style --spp without --render" 1
+expect_one_error_line "style --spp without --render" "--spp: only with --render"
+run style "$work/style.json" --wet --hair-units-per-metre 0 -o "$work/style_bad/x"
+expect_rc "style --hair-units-per-metre 0" 1
+expect_one_error_line "style --hair-units-per-metre 0" "--hair-units-per-metre"
 run style "$work/style.json" --curl 0.01 -o "$work/style_bad/x"
 expect_rc "style bad --curl" 1
 expect_one_error_line "style bad --curl" "--curl"

@@ -7,9 +7,11 @@
 #include <stdlib.h>
 
 #include <filesystem>
+#include <numbers>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "ringlet/body_json.h"
@@ -76,6 +78,7 @@ TEST(HairstyleJson, ExamplesParse) {
 TEST(HairstyleJson, WavyExampleFieldsArriveInTheHairstyle) {
   Hairstyle s;
   std::string error;
+  // The wavy hair on the sphere mannequin (the main job).
   ASSERT_TRUE(LoadHairstyle(HairstyleDir() + "/wavy.json", &s, &error)) << error;
   ASSERT_NE(s.body, nullptr);
   EXPECT_NE(s.body->FindSphere("head"), nullptr);  // ../bodies/mannequin.json, relative to file
@@ -107,6 +110,51 @@ TEST(HairstyleJson, WavyExampleFieldsArriveInTheHairstyle) {
   EXPECT_EQ(s.wisps.points_per_strand, 32);
   EXPECT_EQ(s.layers.count, 4);
   EXPECT_EQ(s.layers.thickness, 0.003);
+}
+
+// wavy_head.json: the head mesh, its scalp triangles, the face sweep and the regional
+// length (the values written in the file).
+TEST(HairstyleJson, WavyExampleOnTheHeadMesh) {
+  Hairstyle s;
+  std::string error;
+  ASSERT_TRUE(LoadHairstyle(HairstyleDir() + "/wavy_head.json", &s, &error)) << error;
+  ASSERT_NE(s.body, nullptr);
+  ASSERT_EQ(s.body->meshes().size(), 2u);  // head.obj: "head" and "torso"
+  EXPECT_EQ(s.body->meshes()[0].name(), "head");
+  ASSERT_TRUE(std::holds_alternative<MeshScalp>(s.scalp));
+  EXPECT_GT(std::get<MeshScalp>(s.scalp).triangles.size(), 1000u);
+  EXPECT_EQ(s.comb.face_sweep, 5.0);
+  EXPECT_TRUE(s.regional_length);
+  EXPECT_EQ(s.length_front, 0.2);
+  EXPECT_EQ(s.length_side, 0.3);
+  EXPECT_EQ(s.length_back, 0.3);
+  // L(phi) passes through the three values (RegionalLength's cosine curve).
+  EXPECT_NEAR(RegionalLength(s, 0.0), 0.2, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, std::numbers::pi / 2), 0.3, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, -std::numbers::pi / 2), 0.3, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, std::numbers::pi), 0.3, 1e-15);
+}
+
+// A regional length whose cosine curve dips to 0 between its values is refused, naming the field.
+TEST(HairstyleJson, RegionalLengthBadValues) {
+  Hairstyle s;
+  std::string error;
+  const std::string base = R"({"body": "../bodies/mannequin.json", "hair": {"length": )";
+  EXPECT_FALSE(ParseHairstyle(nlohmann::json::parse(base + R"({"front": 0.1, "side": 0.3}}})"),
+                              HairstyleDir(), &s, &error));
+  EXPECT_NE(error.find("hair.length.back"), std::string::npos) << error;
+  // front = back = 1 m, side 0.05 m: a0 = 0.525, a2 = 0.475, a1 = 0; L(phi) > 0 everywhere, so
+  // this one is accepted ...
+  EXPECT_TRUE(ParseHairstyle(
+      nlohmann::json::parse(base + R"({"front": 1, "side": 0.05, "back": 1}}})"),
+      HairstyleDir(), &s, &error)) << error;
+  // ... while front 0.05, side 0.01, back 1 gives a0 = 0.2675, a1 = -0.475, a2 = 0.2575, whose
+  // minimum, at cos(phi) = -a1 / (4 a2) = 0.461, is a0 - a2 - a1^2 / (8 a2) = -0.0995 m: refused.
+  error.clear();
+  EXPECT_FALSE(ParseHairstyle(
+      nlohmann::json::parse(base + R"({"front": 0.05, "side": 0.01, "back": 1}}})"),
+      HairstyleDir(), &s, &error));
+  EXPECT_NE(error.find("hair.length"), std::string::npos) << error;
 }
 
 TEST(HairstyleJson, Defaults) {

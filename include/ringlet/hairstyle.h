@@ -63,6 +63,17 @@ struct Hairstyle {
   HairType hair_type;
   /// Mean strand length before the per-strand length factor (m), > 0.
   double length = 0.25;
+  /// Regional length (a layered cut, a fringe, a longer nape): when `regional_length` is true the
+  /// mean length at a root of azimuth phi from the face (HeadCoordinates) replaces `length`:
+  ///   L(phi) = a0 + a1 cos(phi) + a2 cos(2 phi)
+  /// through L(0) = length_front (the fringe), L(+-pi/2) = length_side (over the ears) and
+  /// L(pi) = length_back (the nape), the curve of the scalp's hairline (scalp.h). Each > 0 (m);
+  /// L(phi) stays between the smallest and largest of the three when the side value lies
+  /// between the others, and is checked > 0 at every azimuth otherwise.
+  bool regional_length = false;
+  double length_front = 0.25;
+  double length_side = 0.25;
+  double length_back = 0.25;
   /// Segments per master strand, >= 1.
   int segments = 20;
   /// Last/first segment-length ratio (>= 1); 0 selects RecommendedGradingRatio per strand.
@@ -99,6 +110,9 @@ struct Hairstyle {
   /// Checks every field (and the parts' own IsValid); says which field and what was expected.
   bool IsValid(std::string* why) const;
 };
+
+/// The mean length (m) at azimuth phi (rad): `length`, or L(phi) with regional_length.
+double RegionalLength(const Hairstyle& style, double azimuth);
 
 /// The master strands of a hairstyle, ready to solve: roots and one StrandModel per root.
 struct HairstyleMasters {

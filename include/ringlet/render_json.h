@@ -97,9 +97,9 @@ bool ParseShadowMode(const std::string& name, ShadowMode* mode);
 /// "chiang2016" / "marschner2003" -> HairScatteringModel; false for other names.
 bool ParseHairScatteringModel(const std::string& name, HairScatteringModel* model);
 
-/// The box the framed camera looks at: the hair's points together with the body's sphere named
-/// "head" (so that short hair still shows the whole head); the body's bounds when there is no
-/// hair. Empty when there is neither.
+/// The box the framed camera looks at: the hair's points together with the body's sphere or
+/// mesh named "head" (so that short hair still shows the whole head and face); the body's bounds
+/// when there is no hair. Empty when there is neither.
 Eigen::AlignedBox3d FramingBox(const HairCurves* hair, const Body* body);
 
 /// The scene of the settings, shared by every front end (`ringlet render`, `ringlet groom

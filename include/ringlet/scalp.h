@@ -139,9 +139,16 @@ struct CombOptions {
   Vec3 parting_normal = Vec3(1.0, 0.0, 0.0);  ///< parting plane normal (world, non-zero)
   double parting_offset = 0.0;                ///< plane offset from the head centre (m)
   double parting_strength = 1.0;  ///< weight of "away from the part" against c, >= 0
+  /// Comb away from the face (before the parting): c += face_sweep (1 + cos phi) / 2 b, phi the
+  /// root's azimuth from the face, b the unit tangential part of sign(phi) (-sin(phi) front +
+  /// cos(phi) left), the direction of growing |phi|: sideways at the forehead (the hair falls
+  /// beside the face), backward above the ears, nothing at the nape (docs/hairstyle-format.md).
+  /// It must exceed 1 to beat `direction` where the two are opposed. 0 = off, >= 0.
+  double face_sweep = 0.0;
 };
 
-/// Checks finite fields, tilt in [0, pi/2], non-zero directions, parting_strength >= 0.
+/// Checks finite fields, tilt in [0, pi/2], non-zero directions, parting_strength >= 0,
+/// face_sweep >= 0.
 bool IsValid(const CombOptions& comb, std::string* why);
 
 /// One hair root.

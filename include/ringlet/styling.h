@@ -49,6 +49,16 @@ struct DryParameters {
   std::vector<Material> materials;     ///< dry material of each master
 };
 
+/// Where a cut ended one generated strand (a wisp's master or child, GrowWisps' output): the
+/// strand keeps its points 0 .. segment and ends at the point lerp(p[segment], p[segment + 1],
+/// t), rounded to float, with t in [0, 1). segment = -1: the strand is not cut. Because the wisps
+/// are regenerated deterministically from the masters (WispSeed), the same record reproduces
+/// the same clipped strand bit for bit (docs/styling.md, "Cut").
+struct StrandCut {
+  int segment = -1;  ///< last kept point index, -1 = uncut
+  double t = 0.0;    ///< fraction of the segment (segment, segment + 1) kept, in [0, 1)
+};
+
 /// A styled head: the hairstyle, its masters and their current equilibria. Operations change
 /// masters.models (and wisp radii, clearances) and solutions; the Hairstyle stays as parsed.
 struct StyledHair {
@@ -58,6 +68,10 @@ struct StyledHair {
   bool wet = false;                       ///< between Wet and Dry
   WetOptions wet_options;                 ///< the options of the last Wet (valid while wet)
   DryParameters dry;                      ///< what Dry restores (valid while wet)
+  /// Where each generated strand was clipped by the cuts since the last grow (one per strand of
+  /// GrowWisps' output, wisp by wisp; empty = none). Cut fills it, StyledStrands applies it,
+  /// Grow clears it (the hair regrows: docs/styling.md, "Cut").
+  std::vector<StrandCut> strand_cuts;
 };
 
 /// The styled state of a groom made from `style` (GroomHairstyle): copies of its masters and
@@ -158,6 +172,21 @@ struct CutRegion {
   /// Checks the fields of the kind; says which and what was expected.
   bool IsValid(std::string* why) const;
 };
+
+/// Clips generated strands to a cut region: every strand whose root lies in the region (for
+/// kMaxLength: every strand) is ended where its polyline first leaves it, at a point found by
+/// bisection on the segment parameter with the float-rounded point tested (so the stored point
+/// is inside, Inside >= 0, or for kMaxLength its polyline arc length, summed in double from the
+/// float points, is <= length). `cuts` has one entry per strand (resized, uncut, when it does
+/// not match) and holds the previous clips: a strand is searched only up to its previous end and
+/// its record is replaced by the new, shorter one. Strands rooted outside stay as they are.
+/// Returns the number of strands newly clipped.
+int ClipStrands(const CutRegion& region, const HairCurves& strands, std::vector<StrandCut>* cuts);
+
+/// Ends each strand as its record says (ClipStrands); the widths and major axes follow (the
+/// width interpolated, the axis of the last kept point). `cuts` must be empty (nothing done) or
+/// hold one entry per strand, each within its strand.
+void ApplyStrandCuts(const std::vector<StrandCut>& cuts, HairCurves* strands);
 
 /// Options of Cut.
 struct CutOptions {

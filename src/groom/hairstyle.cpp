@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
+#include <utility>
 
 #include "ringlet/helix.h"
 #include "ringlet/strand_geometry.h"
@@ -40,6 +42,17 @@ int HullLayerOf(const HullLayers& layers, double polar_angle, double max_polar_a
   return std::min(layers.count - 1, static_cast<int>(std::floor(layers.count * depth)));
 }
 
+double RegionalLength(const Hairstyle& style, double azimuth) {
+  if (!style.regional_length) return style.length;
+  // Through (0, front), (pi/2, side), (pi, back): a1 = (f - b) / 2, a0 + a2 = (f + b) / 2,
+  // a0 - a2 = s.
+  const double f = style.length_front, s = style.length_side, b = style.length_back;
+  const double a1 = 0.5 * (f - b);
+  const double a0 = 0.25 * (f + b) + 0.5 * s;
+  const double a2 = 0.25 * (f + b) - 0.5 * s;
+  return a0 + a1 * std::cos(azimuth) + a2 * std::cos(2.0 * azimuth);
+}
+
 bool Hairstyle::IsValid(std::string* why) const {
   std::string reason;
   if (!body) return Fail(why, "body: required");
@@ -50,6 +63,23 @@ bool Hairstyle::IsValid(std::string* why) const {
   if (!ringlet::IsValid(hair_type, &reason)) return Fail(why, "hair: " + reason);
   if (!(std::isfinite(length) && length > 0.0)) {
     return Fail(why, "hair.length: expected a finite number > 0 (m)");
+  }
+  if (regional_length) {
+    for (const auto& [name, value] : {std::pair{"front", length_front},
+                                      std::pair{"side", length_side},
+                                      std::pair{"back", length_back}}) {
+      if (!(std::isfinite(value) && value > 0.0 && value <= 10.0)) {
+        return Fail(why, std::string("hair.length.") + name +
+                             ": expected a finite number in (0, 10] (m)");
+      }
+    }
+    // The cosine curve may dip below its values at 0, pi/2, pi: checked on a fine grid.
+    for (int k = 0; k <= 720; ++k) {
+      if (!(RegionalLength(*this, std::numbers::pi * k / 720.0) > 0.0)) {
+        return Fail(why, "hair.length: the regional length curve through front, side and back "
+                         "falls to 0 or below between them; bring the three values closer");
+      }
+    }
   }
   if (segments < 1 || segments > kMaxSegments) {
     return Fail(why, "masters.segments: expected 1 to " + std::to_string(kMaxSegments));
@@ -132,7 +162,7 @@ bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string
     m.root_position = root.position;
     m.root_frame = root.frame;
     m.gravity = style.gravity;
-    const double length = style.length * p.length_factor;
+    const double length = RegionalLength(style, root.head.azimuth) * p.length_factor;
     m.segment_lengths = UniformSegments(length, style.segments);
     const double ratio =
         style.grading > 0.0 ? style.grading : RecommendedGradingRatio(m.GravityParameter());

@@ -329,6 +329,10 @@ bool IsValid(const CombOptions& comb, std::string* why) {
     if (why) *why = "comb.parting_strength: expected a finite number >= 0";
     return false;
   }
+  if (!(std::isfinite(comb.face_sweep) && comb.face_sweep >= 0.0)) {
+    if (why) *why = "comb.face_sweep: expected a finite number >= 0";
+    return false;
+  }
   return true;
 }
 
@@ -342,6 +346,21 @@ Mat3 CombedRootFrame(const Vec3& position, const Vec3& normal, const HeadFrame& 
   if (c.norm() < 1e-3 * comb.direction.norm()) c = tangential(comb.fallback_direction);
   if (c.norm() < 1e-3 * comb.fallback_direction.norm()) c = n.unitOrthogonal();
   c.normalize();
+
+  // Away from the face: around the head toward the back, the direction of growing |phi| (phi the
+  // azimuth from the face), weighted (1 + cos phi) / 2 (CombOptions::face_sweep). Where that
+  // direction is normal to the scalp it has no tangential part and is skipped.
+  if (comb.face_sweep > 0.0) {
+    const Mat3 axes = HeadAxes(head);  // columns up, front, left
+    const double phi = ComputeHeadCoordinates(head, position).azimuth;
+    const double side = phi >= 0.0 ? 1.0 : -1.0;
+    const Vec3 b =
+        tangential(side * (-std::sin(phi) * axes.col(1) + std::cos(phi) * axes.col(2)));
+    if (b.norm() > 1e-9) {
+      c += comb.face_sweep * 0.5 * (1.0 + std::cos(phi)) * b.normalized();
+      c = c.norm() > 1e-12 ? Vec3(c.normalized()) : Vec3(b.normalized());
+    }
+  }
 
   // Parting: drop the component toward the part, add a lean away from it.
   int side = 0;

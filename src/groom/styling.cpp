@@ -574,8 +574,16 @@ bool Cut(StyledHair* state, const CutRegion& region, const CutOptions& options,
     r.unconverged = 0;
     for (int i : which) r.unconverged += state->solutions[i].summary.Converged() ? 0 : 1;
   }
+  // The wisps of the cut masters inherit the cut through their lengths (a child is a fixed
+  // fraction of its master's length), but their offsets, jitter and frizz carry some of them
+  // past the boundary: every drawn strand rooted in the region is ended where it first leaves it
+  // (ClipStrands), recorded so that StyledStrands draws the same strands.
+  HairCurves strands;
+  if (!GrowWisps(state->style, state->masters, state->solutions, &strands, why)) return false;
+  ApplyStrandCuts(state->strand_cuts, &strands);
+  const int clipped = ClipStrands(region, strands, &state->strand_cuts);
   r.seconds = SecondsSince(start);
-  r.message = Summary(r);
+  r.message = Summary(r) + ", " + std::to_string(clipped) + " strands clipped";
   if (rooted_outside > 0) {
     r.message += ", " + std::to_string(rooted_outside) + " rooted outside the cut region left uncut";
   }
@@ -628,6 +636,8 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
   if (sequence) sequence->clear();
   std::vector<int> which(n);
   for (int i = 0; i < n; ++i) which[i] = i;
+  // The hair regrows past the cut: the clips of earlier cuts no longer apply (docs/styling.md).
+  state->strand_cuts.clear();
   for (int t = 0; t < steps; ++t) {
     std::vector<VecX> warm(n);
     for (int i = 0; i < n; ++i) {
@@ -725,7 +735,14 @@ bool ApplyOperation(StyledHair* state, const StyleOperation& operation, const Ba
 }
 
 bool StyledStrands(const StyledHair& state, HairCurves* strands, std::string* why) {
-  return GrowWisps(state.style, state.masters, state.solutions, strands, why);
+  if (!GrowWisps(state.style, state.masters, state.solutions, strands, why)) return false;
+  if (!state.strand_cuts.empty()) {
+    if (state.strand_cuts.size() != strands->point_counts.size()) {
+      return Fail(why, "styled state: the strand cuts do not match the wisps");
+    }
+    ApplyStrandCuts(state.strand_cuts, strands);
+  }
+  return true;
 }
 
 }  // namespace ringlet

@@ -190,8 +190,10 @@ bool ParseComb(Reader& reader, const json& document, Hairstyle* style) {
   if (!comb) return true;
   const std::string path = "comb";
   CombOptions& c = style->comb;
-  if (!reader.CheckFields(*comb, path, {"tilt", "direction", "fallback_direction", "parting"}) ||
+  if (!reader.CheckFields(*comb, path,
+                          {"tilt", "direction", "fallback_direction", "parting", "face_sweep"}) ||
       !reader.ReadNumber(*comb, path, "tilt", kTiltRule, false, &c.tilt) ||
+      !reader.ReadNumber(*comb, path, "face_sweep", kNonNegative, false, &c.face_sweep) ||
       !reader.ReadVector<3>(*comb, path, "direction", "a direction", false, &c.direction) ||
       !reader.ReadVector<3>(*comb, path, "fallback_direction", "a direction", false,
                             &c.fallback_direction)) {
@@ -221,8 +223,24 @@ bool ParseHair(Reader& reader, const json& document, Hairstyle* style) {
   if (hair) {
     const std::string path = "hair";
     if (!reader.CheckFields(*hair, path, {"origin", "curl", "length", "seed"}) ||
-        !reader.ReadNumber(*hair, path, "length", kPositiveLength, false, &style->length) ||
         !ReadSeed(reader, *hair, path, "seed", &style->seed)) {
+      return false;
+    }
+    // "length": a number (m), or {"front", "side", "back"} (m): the regional length.
+    const auto length = hair->find("length");
+    if (length != hair->end() && length->is_object()) {
+      const std::string p = "hair.length";
+      style->regional_length = true;
+      if (!reader.CheckFields(*length, p, {"front", "side", "back"}) ||
+          !reader.ReadNumber(*length, p, "front", kPositiveLength, true, &style->length_front) ||
+          !reader.ReadNumber(*length, p, "side", kPositiveLength, true, &style->length_side) ||
+          !reader.ReadNumber(*length, p, "back", kPositiveLength, true, &style->length_back)) {
+        return false;
+      }
+      // `length` (the reference of other defaults) becomes the mean of the three.
+      style->length = (style->length_front + style->length_side + style->length_back) / 3.0;
+    } else if (!reader.ReadNumber(*hair, path, "length", kPositiveLength, false,
+                                  &style->length)) {
       return false;
     }
     for (const char* key : {"origin", "curl"}) {

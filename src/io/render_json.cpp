@@ -343,6 +343,11 @@ Eigen::AlignedBox3d FramingBox(const HairCurves* hair, const Body* body) {
       box.extend(head->center - Vec3::Constant(head->radius));
       box.extend(head->center + Vec3::Constant(head->radius));
     }
+    // A mesh body's head (examples/bodies/head.json): its mesh named "head" (face, ears, neck).
+    for (const TriangleMesh& mesh : body->meshes()) {
+      if (mesh.name() != "head") continue;
+      for (const Vec3& v : mesh.vertices()) box.extend(v);
+    }
   }
   return box;
 }
