@@ -28,6 +28,7 @@
 #include "ringlet/obj_export.h"
 #include "ringlet/render_json.h"
 #include "ringlet/result_json.h"
+#include "ringlet/strand_export.h"
 #include "ringlet/styling.h"
 #include "ringlet/usd_export.h"
 
@@ -196,12 +197,9 @@ int RunGroom(const GroomArgs& args) {
     std::string contents;
     bool ok = true;
     const std::string format = o.format;
-    if (format == "hair") {
-      ok = EncodeHairFile(groom.strands, hair_options, &contents, &error);
-    } else if (format == "usda") {
-      ok = EncodeUsda(groom.strands, UsdExportOptions{}, &contents, &error);
-    } else if (format == "obj") {
-      ok = EncodeObj(groom.strands, &contents, &error);
+    StrandFormat strand_format;
+    if (StrandFormatFromPath(o.name, &strand_format, nullptr)) {
+      ok = EncodeStrands(groom.strands, strand_format, hair_options, &contents, &error);
     } else {
       contents = MastersJson(groom, SecondsSince(start));
     }

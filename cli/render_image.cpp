@@ -11,6 +11,7 @@
 #include "ringlet/atomic_file.h"
 #include "ringlet/hair_bsdf.h"
 #include "ringlet/png_image.h"
+#include "ringlet/render_setup.h"
 
 namespace ringlet::cli {
 
@@ -25,21 +26,6 @@ RenderJob HairstyleRenderJob(const Hairstyle& style, const HairCurves* strands,
   job.threads = threads;
   job.quiet = quiet;
   return job;
-}
-
-Eigen::AlignedBox3d FramingBox(const HairCurves* hair, const Body* body) {
-  Eigen::AlignedBox3d box;  // empty
-  if (hair) {
-    for (const Vec3f& p : hair->points) box.extend(p.cast<double>());
-  }
-  if (body) {
-    if (box.isEmpty()) return body->Bounds();
-    if (const Sphere* head = body->FindSphere("head")) {
-      box.extend(head->center - Vec3::Constant(head->radius));
-      box.extend(head->center + Vec3::Constant(head->radius));
-    }
-  }
-  return box;
 }
 
 bool CheckImagePath(const std::string& path, bool force, std::string* error) {
@@ -66,40 +52,11 @@ bool CheckImagePath(const std::string& path, bool force, std::string* error) {
 
 bool RenderJobImage(const RenderJob& job, Image* image, RenderStats* stats, std::string* error) {
   const RenderSettings& s = job.settings;
-  const bool has_hair = job.hair && job.hair->NumStrands() > 0;
   RenderScene scene;
-  if (has_hair) {
-    scene.hair = job.hair;
-    HairOptics optics = s.optics;
-    optics.eccentricity = job.eccentricity;
-    optics.sigma_a = AbsorptionFromMelanin(s.eumelanin, s.pheomelanin);
-    const std::string why = CheckHairOptics(optics);
-    if (!why.empty()) {
-      *error = "hair optics: " + why;
-      return false;
-    }
-    scene.fibre = std::make_shared<HairBsdf>(optics);
-  }
-  scene.body = job.body;
-  if (!has_hair && !scene.body) {
-    *error = "nothing to render: no strands and no body";
+  if (!MakeRenderScene(s, job.hair, job.body, job.eccentricity, job.orientation_seed, &scene,
+                       error)) {
     return false;
   }
-  scene.body_albedo = s.body_albedo;
-  scene.orientation_seed = job.orientation_seed;
-  scene.key = s.key;
-  scene.environment = s.environment;
-  const double aspect = static_cast<double>(s.options.width) / s.options.height;
-  if (s.camera.kind == CameraSettings::Kind::kFramed) {
-    const Eigen::AlignedBox3d box = FramingBox(job.hair, job.body.get());
-    scene.camera = FrameCamera(box, s.camera.view_direction, s.camera.vertical_fov, aspect);
-  } else {
-    scene.camera.position = s.camera.position;
-    scene.camera.look_at = s.camera.look_at;
-    scene.camera.up = s.camera.up;
-    scene.camera.vertical_fov = s.camera.vertical_fov;
-  }
-
   RenderOptions options = s.options;
   options.threads = job.threads;
   ProgressBar bar("rendering", !job.quiet);

@@ -33,11 +33,6 @@ struct RenderJob {
 RenderJob HairstyleRenderJob(const Hairstyle& style, const HairCurves* strands,
                              const RenderSettings& settings, int threads, bool quiet);
 
-/// The box the framed camera looks at: the hair's points together with the body's sphere named
-/// "head" (so that short hair still shows the whole head); the body's bounds when there is no
-/// hair. Empty when there is neither.
-Eigen::AlignedBox3d FramingBox(const HairCurves* hair, const Body* body);
-
 /// Checks an image output path before any work: a ".png" name, not a directory, and not an
 /// existing file unless force. On failure *error gets one line.
 bool CheckImagePath(const std::string& path, bool force, std::string* error);

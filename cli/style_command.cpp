@@ -31,6 +31,7 @@
 #include "ringlet/obj_export.h"
 #include "ringlet/render_json.h"
 #include "ringlet/result_json.h"
+#include "ringlet/strand_export.h"
 #include "ringlet/styling.h"
 #include "ringlet/usd_export.h"
 
@@ -260,13 +261,12 @@ int RunStyle(const StyleArgs& args) {
     files.emplace_back(name, std::move(contents));
     return true;
   };
-  bool ok = encode("strands.hair", [&](std::string* t) {
-    return EncodeHairFile(strands, hair_options, t, &error);
-  });
-  ok = ok && encode("strands.usda", [&](std::string* t) {
-    return EncodeUsda(strands, UsdExportOptions{}, t, &error);
-  });
-  ok = ok && encode("strands.obj", [&](std::string* t) { return EncodeObj(strands, t, &error); });
+  bool ok = true;
+  for (StrandFormat f : {StrandFormat::kHair, StrandFormat::kUsda, StrandFormat::kObj}) {
+    ok = ok && encode(std::string("strands.") + StrandFormatExtension(f), [&](std::string* t) {
+      return EncodeStrands(strands, f, hair_options, t, &error);
+    });
+  }
   ok = ok && encode("masters.json", [&](std::string* t) {
     *t = MastersJson(state, reports, plan, SecondsSince(start));
     return true;
