@@ -37,6 +37,7 @@
 #include <thread>
 #include <vector>
 
+#include "ringlet/atomic_file.h"
 #include "ringlet/png_image.h"
 #include "ringlet/render.h"
 #include "ringlet/render_json.h"
@@ -836,7 +837,7 @@ void Frame(App* app) {
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }
 
-// glReadPixels of the back buffer, written with the library's PNG writer (sRGB bytes -> linear
+// glReadPixels of the back buffer, written with the library's PNG writer (or as PPM) (sRGB bytes -> linear
 // -> the writer's sRGB encoding: the bytes survive).
 bool Screenshot(App* app, const std::string& path, std::string* error) {
   int w, h;
@@ -845,6 +846,17 @@ bool Screenshot(App* app, const std::string& path, std::string* error) {
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadBuffer(GL_BACK);
   glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+  // A binary PPM (P6) for the tests: the bytes as they are, read back in a line of numpy.
+  if (std::filesystem::path(path).extension() == ".ppm") {
+    std::string ppm = "P6\n" + std::to_string(w) + " " + std::to_string(h) + "\n255\n";
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const unsigned char* p = &bytes[(static_cast<size_t>(h - 1 - y) * w + x) * 4];
+        ppm.append(reinterpret_cast<const char*>(p), 3);
+      }
+    }
+    return WriteFileAtomically(path, ppm, true, error);
+  }
   Image image;
   image.width = w;
   image.height = h;

@@ -71,7 +71,10 @@ class Viewer {
   /// or none: what the cut tool will apply.
   void SetGizmo(const std::optional<CutRegion>& region) { gizmo_ = region; }
   /// The centre of the hair and body box and its radius (m): where the plane gizmo is drawn.
-  Eigen::Vector3f Centre() const { return bounds_.isEmpty() ? Eigen::Vector3f::Zero() : bounds_.center(); }
+  Eigen::Vector3f Centre() const {
+    return bounds_.isEmpty() ? Eigen::Vector3f(Eigen::Vector3f::Zero())
+                             : Eigen::Vector3f(bounds_.center());
+  }
   /// Number of segments drawn by the last Draw.
   long DrawnSegments() const { return drawn_segments_; }
   /// Bytes sent to the GPU by the last SetHair (all buffers, or the regrown wisps only).

@@ -18,9 +18,10 @@ sed -e "s|@DIR@|$DIR|g" -e "s|@OUT@|$OUT|g" "$DIR/screenshot_test.script" > "$OU
 ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" \
 LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1280x800x24" \
   "$STUDIO" --script "$OUT/script.txt" --size 1280x800
-for f in before curl brushed_cut gizmo cut wet_orbit render_panel render; do
-  test -s "$OUT/$f.png"
+for f in before curl brushed_cut gizmo cut wet_orbit render_panel; do
+  test -s "$OUT/$f.ppm"
 done
+test -s "$OUT/render.png"
 /usr/bin/python3 "$DIR/check_screenshots.py" "$OUT"
 # The library's .hair reader accepts the export.
 "$RINGLET" render "$OUT/styled.hair" -o "$OUT/hair_render.png" --width 32 --height 32 --spp 1 -q
