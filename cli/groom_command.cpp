@@ -29,6 +29,7 @@
 #include "ringlet/obj_export.h"
 #include "ringlet/render_json.h"
 #include "ringlet/result_json.h"
+#include "ringlet/strand_export.h"
 #include "ringlet/styling.h"
 #include "ringlet/usd_export.h"
 

@@ -7,6 +7,7 @@
 
 #include "ringlet/atomic_file.h"
 #include "ringlet/obj_export.h"
+#include "ringlet/strand_export.h"
 #include "ringlet/usd_export.h"
 
 namespace ringlet::cli {
@@ -133,14 +134,12 @@ bool EncodeStrandOutputs(const HairCurves& strands, const std::set<std::string>&
     std::string contents;
     bool ok = true;
     const std::string format = o.format;
-    if (format == "hair") {
-      ok = EncodeHairFile(strands, hair_options, &contents, error);
-    } else if (format == "usda") {
-      ok = EncodeUsda(strands, UsdExportOptions{}, &contents, error);
-    } else if (format == "obj") {
-      ok = EncodeObj(strands, &contents, error);
-    } else if (format == "body") {
+    StrandFormat strand_format;
+    if (format == "body") {
       if (body) EncodeBodyObj(*body, &contents);
+    } else if (StrandFormatFromPath(o.name, &strand_format, nullptr)) {
+      // strands.hair, .usda, .obj: the library's one encoder (the studio's Export uses it too).
+      ok = EncodeStrands(strands, strand_format, hair_options, &contents, error);
     } else {
       contents = masters_json();
     }

@@ -10,6 +10,7 @@
 #include "progress.h"
 #include "ringlet/atomic_file.h"
 #include "ringlet/png_image.h"
+#include "ringlet/render_setup.h"
 
 namespace ringlet::cli {
 

@@ -100,23 +100,6 @@ ojson OperationToJson(const StyleOperation& op) {
         body["radius"] = op.curl_radius;
       }
       body["pitch"] = op.curl_pitch;
-      const StrandSelection& s = op.selection;
-      const StrandSelection all;
-      ojson select = ojson::object();
-      if (!s.indices.empty()) {
-        select["indices"] = s.indices;
-      } else {
-        if (s.min_polar_angle != all.min_polar_angle || s.max_polar_angle != all.max_polar_angle) {
-          select["polar_angle"] = ojson::array({s.min_polar_angle, s.max_polar_angle});
-        }
-        // JSON has no infinity: an open end of the height range is written as +-1e300 m, which
-        // selects the same roots.
-        if (std::isfinite(s.min_height) || std::isfinite(s.max_height)) {
-          select["height"] = ojson::array({std::isfinite(s.min_height) ? s.min_height : -1e300,
-                                           std::isfinite(s.max_height) ? s.max_height : 1e300});
-        }
-      }
-      if (!select.empty()) body["select"] = std::move(select);
       break;
     }
     case Kind::kWet:
@@ -158,6 +141,24 @@ ojson OperationToJson(const StyleOperation& op) {
       body["steps"] = op.grow_steps;
       break;
   }
+  // The masters it acts on (every operation may have a "select").
+  const StrandSelection& s = op.selection;
+  const StrandSelection all;
+  ojson select = ojson::object();
+  if (!s.indices.empty()) {
+    select["indices"] = s.indices;
+  } else {
+    if (s.min_polar_angle != all.min_polar_angle || s.max_polar_angle != all.max_polar_angle) {
+      select["polar_angle"] = ojson::array({s.min_polar_angle, s.max_polar_angle});
+    }
+    // JSON has no infinity: an open end of the height range is written as +-1e300 m, which
+    // selects the same roots.
+    if (std::isfinite(s.min_height) || std::isfinite(s.max_height)) {
+      select["height"] = ojson::array({std::isfinite(s.min_height) ? s.min_height : -1e300,
+                                       std::isfinite(s.max_height) ? s.max_height : 1e300});
+    }
+  }
+  if (!select.empty()) body["select"] = std::move(select);
   ojson out = ojson::object();
   out[OperationName(op.kind)] = std::move(body);
   return out;
@@ -302,29 +303,29 @@ bool Session::AddOperation(const StyleOperation& operation, std::string* error) 
       history_[cursor_].state ? history_[cursor_].state : shown_;
   if (hair) {
     const int masters = static_cast<int>(hair->styled.masters.models.size());
-    if (operation.kind == StyleOperation::Kind::kCurl &&
-        !operation.selection.IsValid(masters, error)) {
-      return false;
+    if (!operation.selection.IsValid(masters, error)) return false;
+    // Dry needs a selected wet master, wet a selected dry one: checked on the shown hair when it
+    // is the current entry's (otherwise the worker reports it).
+    if (hair == history_[cursor_].state &&
+        (operation.kind == StyleOperation::Kind::kWet ||
+         operation.kind == StyleOperation::Kind::kDry)) {
+      const bool want_wet = operation.kind == StyleOperation::Kind::kDry;
+      bool any = false;
+      for (int i = 0; i < masters && !any; ++i) {
+        any = operation.selection.Selects(i, hair->styled.masters.roots[i]) &&
+              IsWet(hair->styled, i) == want_wet;
+      }
+      if (!any) {
+        *error = want_wet ? "dry: the hair is not wet (wet it first)"
+                          : "wet: the hair is already wet (dry it first)";
+        return false;
+      }
     }
-  }
-  // Dry needs wet hair, wet dry hair: known from the list alone.
-  bool wet = false;
-  for (const StyleOperation& op : CurrentDocument().operations) {
-    if (op.kind == StyleOperation::Kind::kWet) wet = true;
-    if (op.kind == StyleOperation::Kind::kDry) wet = false;
-  }
-  if (operation.kind == StyleOperation::Kind::kDry && !wet) {
-    *error = "dry: the hair is not wet (wet it first)";
-    return false;
-  }
-  if (operation.kind == StyleOperation::Kind::kWet && wet) {
-    *error = "wet: the hair is already wet (dry it first)";
-    return false;
   }
   Document document = CurrentDocument();
   document.operations.push_back(operation);
   std::string label = OperationName(operation.kind);
-  if (operation.kind == StyleOperation::Kind::kCurl && !operation.selection.indices.empty()) {
+  if (!operation.selection.indices.empty()) {
     label += " (" + std::to_string(operation.selection.indices.size()) + " brushed masters)";
   }
   PushEntry(std::move(document), label);
@@ -353,12 +354,24 @@ bool Session::Redo() {
   return true;
 }
 
-bool Session::Save(const std::string& path, std::string* error) {
+bool Session::Save(const std::string& path, std::string* error, bool overwrite) {
   const std::string directory = std::filesystem::path(path).parent_path().string();
   const ojson json = DocumentToJson(CurrentDocument(), directory);
-  if (!WriteFileAtomically(path, json.dump(2) + "\n", true, error)) return false;
+  if (!WriteFileAtomically(path, json.dump(2) + "\n", overwrite, error)) return false;
   saved_cursor_ = cursor_;
+  path_ = path;
   return true;
+}
+
+void Session::New() {
+  Schedule(-1);  // cancel a running solve
+  history_.clear();
+  history_.push_back(Entry{Document{}, "empty", nullptr});
+  cursor_ = 0;
+  saved_cursor_ = 0;
+  path_.clear();
+  shown_.reset();
+  brush.clear();
 }
 
 bool Session::UpToDate() const { return shown_ && history_[cursor_].state == shown_; }
@@ -630,14 +643,49 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
     stats.message += report.message;
   }
   if (cancel.load()) return false;
+  stats.solve_seconds = SecondsSince(start);
   set_what("growing wisps");
-  auto strands = std::make_shared<HairCurves>();
-  std::string why;
-  if (!StyledStrands(state->styled, strands.get(), &why)) {
-    *error = why;
-    return false;
+  const auto wisp_start = std::chrono::steady_clock::now();
+  // Only the wisps of the masters that changed since `from` are regrown (RegrowWisps, the same
+  // bits as growing them all); a new groom grows every wisp.
+  std::vector<int> changed;
+  // Not after a cut: cut strands are clipped (StyledHair::strand_cuts) and no longer have the
+  // fixed layout RegrowWisps writes into.
+  bool partial = from && from->strands &&
+                 from->styled.masters.models.size() == state->styled.masters.models.size() &&
+                 from->styled.strand_cuts.empty() && state->styled.strand_cuts.empty();
+  for (size_t i = 0; partial && i < state->styled.masters.models.size(); ++i) {
+    const StyledHair& a = from->styled;
+    const StyledHair& b = state->styled;
+    if (!SameModel(a.masters.models[i], b.masters.models[i]) ||
+        a.solutions[i].curvatures != b.solutions[i].curvatures ||
+        a.masters.wisp_radii[i] != b.masters.wisp_radii[i]) {
+      changed.push_back(static_cast<int>(i));
+    }
   }
+  std::shared_ptr<HairCurves> strands;
+  std::string why;
+  if (partial) {
+    strands = std::make_shared<HairCurves>(*from->strands);
+    partial = RegrowWisps(state->styled.style, state->styled.masters, state->styled.solutions,
+                          changed, strands.get(), &why);
+  }
+  if (partial) {
+    state->regrown_from = from->strands_id;
+    state->regrown = std::move(changed);
+    stats.regrown = static_cast<int>(state->regrown.size());
+  } else {
+    strands = std::make_shared<HairCurves>();
+    if (!StyledStrands(state->styled, strands.get(), &why)) {
+      *error = why;
+      return false;
+    }
+    stats.regrown = -1;
+  }
+  static std::atomic<std::uint64_t> serial{0};
+  state->strands_id = ++serial;
   state->strands = std::move(strands);
+  stats.wisp_seconds = SecondsSince(wisp_start);
   FillStatus(state.get());
   if (stats.what.empty()) stats.what = "unchanged";
   stats.seconds = SecondsSince(start);

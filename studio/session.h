@@ -41,6 +41,9 @@ struct SolveStats {
   int unstable = 0;            ///< masters found unstable (when the stability check ran)
   double max_penetration = 0;  ///< deepest master point below the body surface (m)
   double seconds = 0;          ///< wall time of the edit's solve and wisps (s)
+  double solve_seconds = 0;    ///< of which the groom and operations' solves (s)
+  double wisp_seconds = 0;     ///< of which growing the wisps (s)
+  int regrown = -1;            ///< wisps regrown (-1: every wisp, grown from scratch)
   std::string message;         ///< the operations' one-line reports, joined
 };
 
@@ -56,6 +59,12 @@ struct HairState {
   std::shared_ptr<const HairCurves> strands;  ///< wisps of styled (StyledStrands)
   std::vector<MasterStatus> status;           ///< one per master
   SolveStats stats;
+  /// A serial number of `strands` (unique in the process), and of the strands these were
+  /// copied from when only the wisps of `regrown` masters were regrown (0 = grown from scratch):
+  /// the view then uploads those wisps only.
+  std::uint64_t strands_id = 0;
+  std::uint64_t regrown_from = 0;
+  std::vector<int> regrown;
 };
 
 /// A hairstyle document: the file's JSON without "operations", and the operations.
@@ -116,8 +125,13 @@ class Session {
   bool CanRedo() const { return cursor_ + 1 < static_cast<int>(history_.size()); }
 
   /// Writes the current document (parameters and operations) atomically to path; `ringlet
-  /// style path -o OUT/` then reproduces Hair() bit for bit. False with a message on failure.
-  bool Save(const std::string& path, std::string* error);
+  /// style path -o OUT/` then reproduces Hair() bit for bit. An existing file is replaced only
+  /// when overwrite (and only a regular file). False with a message on failure.
+  bool Save(const std::string& path, std::string* error, bool overwrite = true);
+
+  /// Drops the document, the hair and the history: an empty session (the UI asks first when
+  /// Modified()).
+  void New();
 
   /// Called by the UI each frame: takes a finished solve, if any. True when Hair() changed.
   bool Poll();

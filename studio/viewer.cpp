@@ -132,6 +132,18 @@ void main() {
 }
 )";
 
+// The cut gizmo: flat colour with alpha.
+const char* kGizmoVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+uniform mat4 view_projection;
+void main() { gl_Position = view_projection * vec4(position, 1.0); }
+)";
+const char* kGizmoFragment = R"(#version 330 core
+uniform vec4 colour;
+out vec4 out_colour;
+void main() { out_colour = colour; }
+)";
+
 unsigned Compile(GLenum type, const char* source, std::string* error) {
   const unsigned shader = glCreateShader(type);
   glShaderSource(shader, 1, &source, nullptr);
@@ -253,6 +265,9 @@ Viewer::~Viewer() {
     if (b) glDeleteBuffers(1, &b);
   }
   if (hair_program_) glDeleteProgram(hair_program_);
+  if (gizmo_program_) glDeleteProgram(gizmo_program_);
+  if (gizmo_vao_) glDeleteVertexArrays(1, &gizmo_vao_);
+  if (gizmo_vbo_) glDeleteBuffers(1, &gizmo_vbo_);
   if (body_program_) glDeleteProgram(body_program_);
 }
 
@@ -263,7 +278,11 @@ bool Viewer::Init(std::string* error) {
                        error);
   body_program_ =
       Link({{GL_VERTEX_SHADER, kBodyVertex}, {GL_FRAGMENT_SHADER, kBodyFragment}}, error);
-  if (!hair_program_ || !body_program_) return false;
+  gizmo_program_ =
+      Link({{GL_VERTEX_SHADER, kGizmoVertex}, {GL_FRAGMENT_SHADER, kGizmoFragment}}, error);
+  if (!hair_program_ || !body_program_ || !gizmo_program_) return false;
+  glGenVertexArrays(1, &gizmo_vao_);
+  glGenBuffers(1, &gizmo_vbo_);
   glGenVertexArrays(1, &hair_vao_);
   glGenBuffers(1, &hair_vbo_);
   glGenBuffers(1, &flag_vbo_);
@@ -275,6 +294,34 @@ bool Viewer::Init(std::string* error) {
 }
 
 void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
+  // Only some wisps regrown from the strands on the GPU (same layout): upload those slices.
+  if (hair && hair->strands && hair_ && hair_->strands && hair->regrown_from != 0 &&
+      hair->regrown_from == hair_->strands_id &&
+      hair->strands->points.size() == hair_->strands->points.size()) {
+    const HairCurves& c = *hair->strands;
+    const int masters = static_cast<int>(hair->styled.masters.models.size());
+    const size_t per_master = masters > 0 ? c.points.size() / masters : 0;
+    std::vector<float> data(4 * per_master);
+    glBindBuffer(GL_ARRAY_BUFFER, hair_vbo_);
+    for (int i : hair->regrown) {
+      const size_t first = static_cast<size_t>(i) * per_master;
+      for (size_t p = 0; p < per_master; ++p) {
+        const Vec3f& x = c.points[first + p];
+        data[4 * p + 0] = x.x();
+        data[4 * p + 1] = x.y();
+        data[4 * p + 2] = x.z();
+        data[4 * p + 3] = c.widths[first + p];
+        bounds_.extend(x);
+      }
+      glBufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(4 * first * sizeof(float)),
+                      static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data());
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    hair_ = hair;
+    last_upload_bytes_ = static_cast<long>(hair->regrown.size() * per_master * 4 * sizeof(float));
+    UploadFlags();
+    return;
+  }
   hair_ = hair;
   bounds_.setEmpty();
   if (!hair || !hair->strands) return;
@@ -308,6 +355,7 @@ void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
     }
     first += c.point_counts[k];
   }
+  last_upload_bytes_ = static_cast<long>((data.size() + all.size() + master.size()) * 4);
   hair_indices_ = static_cast<long>(all.size());
   master_indices_ = static_cast<long>(master.size());
   glBindVertexArray(hair_vao_);
@@ -465,8 +513,86 @@ void Viewer::Draw(const OrbitCamera& camera, const HairLook& look, int x0, int f
     drawn_segments_ = n / 2;
     glDisable(GL_BLEND);
   }
+  if (gizmo_) DrawGizmo(vp);
   glBindVertexArray(0);
   glUseProgram(0);
+}
+
+void Viewer::DrawGizmo(const Eigen::Matrix4f& vp) {
+  const CutRegion& r = *gizmo_;
+  if (r.kind == CutRegion::Kind::kMaxLength) return;
+  std::vector<Eigen::Vector3f> fill, lines;
+  const float size = bounds_.isEmpty() ? 0.3f : 0.6f * bounds_.diagonal().norm();
+  if (r.kind == CutRegion::Kind::kAbovePlane) {
+    // A square of the plane around the point of the plane closest to the box's centre.
+    const Eigen::Vector3f n = r.normal.normalized().cast<float>();
+    const Eigen::Vector3f c0 = Centre();
+    const Eigen::Vector3f c = c0 - (n.dot(c0) - static_cast<float>(r.offset)) * n;
+    const Eigen::Vector3f a =
+        (std::abs(n.x()) < 0.9f ? Eigen::Vector3f::UnitX() : Eigen::Vector3f::UnitY())
+            .cross(n)
+            .normalized();
+    const Eigen::Vector3f b = n.cross(a);
+    const float h = 0.5f * size;
+    const Eigen::Vector3f q[4] = {c - h * a - h * b, c + h * a - h * b, c + h * a + h * b,
+                                  c - h * a + h * b};
+    fill = {q[0], q[1], q[2], q[0], q[2], q[3]};
+    for (int k = 0; k < 4; ++k) {
+      lines.push_back(q[k]);
+      lines.push_back(q[(k + 1) % 4]);
+    }
+    // The normal: an arrow toward the kept side.
+    lines.push_back(c);
+    lines.push_back(c + 0.15f * size * n);
+  } else {
+    // A sphere's wire frame: 12 meridians and 7 parallels.
+    const Eigen::Vector3f c = r.centre.cast<float>();
+    const float radius = static_cast<float>(r.radius);
+    const int m = 48;
+    const float pi = static_cast<float>(std::acos(-1.0));
+    const auto point = [&](float theta, float phi) {
+      return Eigen::Vector3f(c + radius * Eigen::Vector3f(std::sin(theta) * std::cos(phi),
+                                                          std::sin(theta) * std::sin(phi),
+                                                          std::cos(theta)));
+    };
+    for (int k = 0; k < 12; ++k) {
+      const float phi = 2.0f * pi * k / 12;
+      for (int j = 0; j < m; ++j) {
+        lines.push_back(point(pi * j / m, phi));
+        lines.push_back(point(pi * (j + 1) / m, phi));
+      }
+    }
+    for (int k = 1; k < 8; ++k) {
+      const float theta = pi * k / 8;
+      for (int j = 0; j < m; ++j) {
+        lines.push_back(point(theta, 2.0f * pi * j / m));
+        lines.push_back(point(theta, 2.0f * pi * (j + 1) / m));
+      }
+    }
+  }
+  std::vector<float> data;
+  for (const auto* list : {&fill, &lines}) {
+    for (const Eigen::Vector3f& p : *list) data.insert(data.end(), {p.x(), p.y(), p.z()});
+  }
+  glUseProgram(gizmo_program_);
+  SetMatrix(gizmo_program_, "view_projection", vp);
+  glBindVertexArray(gizmo_vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, gizmo_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, data.size() * sizeof(float), data.data(), GL_STREAM_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDepthMask(GL_FALSE);
+  const GLint colour = glGetUniformLocation(gizmo_program_, "colour");
+  if (!fill.empty()) {
+    glUniform4f(colour, 1.0f, 0.35f, 0.2f, 0.3f);
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(fill.size()));
+  }
+  glUniform4f(colour, 1.0f, 0.55f, 0.2f, 0.9f);
+  glDrawArrays(GL_LINES, static_cast<GLsizei>(fill.size()), static_cast<GLsizei>(lines.size()));
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
 }
 
 std::vector<int> Viewer::PickRoots(const OrbitCamera& camera, int x0, int full_width, int height,

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "ringlet/body.h"
@@ -66,11 +67,22 @@ class Viewer {
   /// the camera.
   std::vector<int> PickRoots(const OrbitCamera& camera, int x0, int full_width, int height, float x,
                              float y, float radius) const;
+  /// The cut region to show over the hair (a translucent plane, or a sphere's wire frame),
+  /// or none: what the cut tool will apply.
+  void SetGizmo(const std::optional<CutRegion>& region) { gizmo_ = region; }
+  /// The centre of the hair and body box and its radius (m): where the plane gizmo is drawn.
+  Eigen::Vector3f Centre() const {
+    return bounds_.isEmpty() ? Eigen::Vector3f(Eigen::Vector3f::Zero())
+                             : Eigen::Vector3f(bounds_.center());
+  }
   /// Number of segments drawn by the last Draw.
   long DrawnSegments() const { return drawn_segments_; }
+  /// Bytes sent to the GPU by the last SetHair (all buffers, or the regrown wisps only).
+  long LastUploadBytes() const { return last_upload_bytes_; }
 
  private:
   void UploadFlags();
+  void DrawGizmo(const Eigen::Matrix4f& view_projection);
   void UploadBody(const Body& body);
 
   std::shared_ptr<const HairState> hair_;
@@ -84,6 +96,9 @@ class Viewer {
   std::vector<std::uint32_t> strand_of_master_;  // first strand of each wisp
   Eigen::AlignedBox3f bounds_;
   long drawn_segments_ = 0;
+  long last_upload_bytes_ = 0;
+  std::optional<CutRegion> gizmo_;
+  unsigned gizmo_program_ = 0, gizmo_vao_ = 0, gizmo_vbo_ = 0;
 };
 
 }  // namespace ringlet::studio

@@ -27,6 +27,7 @@
 #include "ringlet/body.h"
 #include "ringlet/hair_file.h"
 #include "ringlet/obj_export.h"
+#include "ringlet/strand_export.h"
 #include "ringlet/usd_export.h"
 
 namespace ringlet {
@@ -875,6 +876,46 @@ TEST(UsdExport, RejectsBadInput) {
       << error;
   EXPECT_FALSE(WriteUsdaSequence(dir.File("s.usda"), frames, UsdExportOptions(), false, &error));
   EXPECT_EQ(dir.Count(), 2u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// ExportStrands: the one call of `ringlet groom`, `ringlet style` and the studio's Export
+
+TEST(StrandExport, WritesTheFormatOfTheExtensionAndNeverReplacesSilently) {
+  const HairCurves curves = MakeCurves({2, 6, 3, 17}, false, 5);
+  TempDir dir;
+  std::string error;
+  // Each file holds exactly what its own encoder writes (the CLI's bytes).
+  HairFileOptions options;
+  options.units_per_metre = 100.0;
+  std::string hair, usda, obj, file;
+  ASSERT_TRUE(EncodeHairFile(curves, options, &hair, &error)) << error;
+  ASSERT_TRUE(EncodeUsda(curves, UsdExportOptions{}, &usda, &error)) << error;
+  ASSERT_TRUE(EncodeObj(curves, &obj, &error)) << error;
+  for (const auto& [name, bytes] : {std::pair<std::string, std::string*>{"a.hair", &hair},
+                                    {"a.usda", &usda}, {"a.obj", &obj}}) {
+    ASSERT_TRUE(ExportStrands(dir.File(name), curves, options, false, &error)) << error;
+    ASSERT_TRUE(ReadFile(dir.File(name), &file, &error)) << error;
+    EXPECT_EQ(file, *bytes) << name;
+  }
+  // The .hair reader accepts it: the same points (cm back to m: scaled by 1/100).
+  HairCurves back;
+  ASSERT_TRUE(ReadHairFile(dir.File("a.hair"), &back, &error, 100.0)) << error;
+  EXPECT_EQ(back.point_counts, curves.point_counts);
+  // An existing file is kept unless overwrite; then replaced.
+  const HairCurves other = MakeCurves({3, 3}, false, 6);
+  EXPECT_FALSE(ExportStrands(dir.File("a.obj"), other, options, false, &error));
+  EXPECT_NE(error.find("already exists"), std::string::npos) << error;
+  ASSERT_TRUE(ReadFile(dir.File("a.obj"), &file, &error)) << error;
+  EXPECT_EQ(file, obj);
+  ASSERT_TRUE(ExportStrands(dir.File("a.obj"), other, options, true, &error)) << error;
+  ASSERT_TRUE(ReadFile(dir.File("a.obj"), &file, &error)) << error;
+  EXPECT_NE(file, obj);
+  // An unknown extension: one line naming the path, nothing written.
+  EXPECT_FALSE(ExportStrands(dir.File("a.abc"), curves, options, false, &error));
+  EXPECT_EQ(error, dir.File("a.abc") + ": expected a file name ending in .hair, .usda or .obj, "
+                                       "got \".abc\"");
+  EXPECT_EQ(dir.Count(), 3u);
 }
 
 }  // namespace

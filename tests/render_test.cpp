@@ -506,6 +506,58 @@ TEST(RenderTest, ProgressCountsTiles) {
   for (size_t i = 0; i < done.size(); ++i) EXPECT_EQ(done[i], static_cast<long>(i) + 1);
 }
 
+// Progressive passes (the studio's render panel): passes of 1, 1, 2, 4, 8 and the rest of 21
+// samples, the image after each pass the mean of the samples so far, and the final image
+// bit-identical to the render without passes; the pass after 1 sample equals a 1-spp render,
+// the one after 4 a 4-spp render (sample s has the same stream in both).
+TEST(RenderTest, ProgressivePassesEndInTheSameImage) {
+  LitScene lit;
+  RenderOptions options;
+  options.width = 24;
+  options.height = 16;
+  options.samples_per_pixel = 21;
+  options.threads = 2;
+  options.seed = 7;
+  Image plain, progressive, one, four;
+  std::string error;
+  ASSERT_TRUE(Render(lit.scene, options, &plain, nullptr, &error)) << error;
+  options.samples_per_pixel = 1;
+  ASSERT_TRUE(Render(lit.scene, options, &one, nullptr, &error)) << error;
+  options.samples_per_pixel = 4;
+  ASSERT_TRUE(Render(lit.scene, options, &four, nullptr, &error)) << error;
+  options.samples_per_pixel = 21;
+  std::vector<int> taken;
+  std::vector<Image> passes;
+  options.pass_done = [&](const Image& image, int samples) {
+    taken.push_back(samples);
+    passes.push_back(image);
+  };
+  long last_done = 0, last_total = 0;
+  options.progress = [&](long d, long t) {
+    last_done = d;
+    last_total = t;
+  };
+  ASSERT_TRUE(Render(lit.scene, options, &progressive, nullptr, &error)) << error;
+  EXPECT_EQ(taken, (std::vector<int>{1, 2, 4, 8, 16, 21}));
+  EXPECT_TRUE(SameImage(plain, progressive));
+  EXPECT_TRUE(SameImage(passes.back(), plain));
+  EXPECT_TRUE(SameImage(passes[0], one));
+  EXPECT_TRUE(SameImage(passes[2], four));
+  EXPECT_FALSE(SameImage(passes[0], plain));  // anti-vacuity: the passes differ
+  EXPECT_EQ(last_total, 6);  // 24 x 16 pixels in 32-pixel tiles: 1 tile, 6 passes
+  EXPECT_EQ(last_done, last_total);
+
+  // Cancelled from the first pass on: false, "cancelled", the image untouched.
+  std::atomic<bool> cancel{false};
+  options.cancel = &cancel;
+  options.pass_done = [&](const Image&, int) { cancel = true; };
+  Image untouched;
+  untouched.width = 3;
+  EXPECT_FALSE(Render(lit.scene, options, &untouched, nullptr, &error));
+  EXPECT_EQ(error, "cancelled");
+  EXPECT_EQ(untouched.width, 3);
+}
+
 // Shadow rays through a comb of N parallel fibres of transmittance T get T^N (straight through
 // the axes, any h); beside the comb 1; the body blocks (0); h is that of the crossing.
 TEST(RenderTest, ShadowThroughFibresMultipliesTransmittance) {

@@ -2,6 +2,7 @@
 // undo / redo, cancellation, and the save -> `ringlet style` round trip, bit for bit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <filesystem>
@@ -250,6 +251,99 @@ TEST_F(StudioSession, SaveReproducesTheHairBitForBit) {
   reopened.Wait();
   EXPECT_EQ(reopened.CurrentDocument().operations.size(), 5u);
   ExpectSameBits(*session.Hair()->strands, *reopened.Hair()->strands);
+}
+
+// Every operation brushed (the brush's indices in each operation's "select"): the unbrushed
+// masters keep their solution bit for bit, only their wisps are regrown (RegrowWisps), and the
+// saved file gives the same hair through `ringlet style`'s code path, bit for bit.
+TEST_F(StudioSession, BrushedOperationsRegrowTheirWispsAndSaveBitForBit) {
+  Open();
+  std::string error;
+  const auto groomed = session.Hair();
+  const std::vector<int> brush = {2, 3, 10, 11, 12, 40, 41};
+  StyleOperation wet;
+  wet.kind = StyleOperation::Kind::kWet;
+  wet.selection.indices = brush;
+  ASSERT_TRUE(session.AddOperation(wet, &error)) << error;
+  session.Wait();
+  const auto wetted = session.Hair();
+  EXPECT_EQ(wetted->stats.resolved, 7);
+  ASSERT_EQ(wetted->regrown_from, groomed->strands_id);  // only some wisps regrown
+  EXPECT_LE(wetted->stats.regrown, 7);
+  EXPECT_GT(wetted->stats.regrown, 0);
+  for (int i = 0; i < 60; ++i) {
+    const bool brushed = std::find(brush.begin(), brush.end(), i) != brush.end();
+    EXPECT_EQ(IsWet(wetted->styled, i), brushed) << i;
+    if (!brushed) {
+      EXPECT_TRUE(wetted->styled.solutions[i].curvatures == groomed->styled.solutions[i].curvatures)
+          << i;
+    }
+  }
+  // The partly regrown strands equal growing every wisp (the independent reference).
+  HairCurves full;
+  ASSERT_TRUE(StyledStrands(wetted->styled, &full, &error)) << error;
+  ExpectSameBits(full, *wetted->strands);
+
+  StyleOperation cut;
+  cut.kind = StyleOperation::Kind::kCut;
+  cut.cut_region.offset = -0.1;
+  cut.selection.indices = {2, 3, 10, 11};
+  ASSERT_TRUE(session.AddOperation(cut, &error)) << error;
+  StyleOperation grow;
+  grow.kind = StyleOperation::Kind::kGrow;
+  grow.grow_step = 0.01;
+  grow.grow_steps = 1;
+  grow.selection.indices = {40, 41, 50};
+  ASSERT_TRUE(session.AddOperation(grow, &error)) << error;
+  StyleOperation dry;
+  dry.kind = StyleOperation::Kind::kDry;
+  dry.selection.indices = {2, 40};
+  ASSERT_TRUE(session.AddOperation(dry, &error)) << error;
+  session.Wait();
+  ASSERT_TRUE(session.UpToDate());
+  const auto styled = session.Hair();
+  // One job ran the cut, the grow (3 masters) and the dry (2): the counts add up.
+  EXPECT_EQ(styled->stats.what, "dry");
+  EXPECT_GE(styled->stats.resolved, 5);
+  EXPECT_TRUE(IsWet(styled->styled, 3) && !IsWet(styled->styled, 2) && !IsWet(styled->styled, 40));
+  EXPECT_NEAR(styled->styled.masters.models[50].Length(),
+              groomed->styled.masters.models[50].Length() + 0.01, 1e-12);
+  EXPECT_LT(styled->styled.masters.models[2].Length() + styled->styled.masters.models[3].Length() +
+                styled->styled.masters.models[10].Length() +
+                styled->styled.masters.models[11].Length(),
+            groomed->styled.masters.models[2].Length() + groomed->styled.masters.models[3].Length() +
+                groomed->styled.masters.models[10].Length() +
+                groomed->styled.masters.models[11].Length());
+  EXPECT_EQ(styled->styled.masters.models[20].Length(), groomed->styled.masters.models[20].Length());
+  ASSERT_TRUE(StyledStrands(styled->styled, &full, &error)) << error;
+  ExpectSameBits(full, *styled->strands);
+
+  const std::string path = TempPath("brushed.json");
+  ASSERT_TRUE(session.Save(path, &error)) << error;
+  // The file holds the selections.
+  std::ifstream file(path);
+  const nlohmann::json saved = nlohmann::json::parse(file);
+  ASSERT_EQ(saved["operations"].size(), 4u);
+  EXPECT_EQ(saved["operations"][0]["wet"]["select"]["indices"], nlohmann::json(brush));
+  EXPECT_EQ(saved["operations"][3]["dry"]["select"]["indices"], nlohmann::json({2, 40}));
+  ExpectSameBits(*styled->strands, StyleFile(path));
+  // Not replaced without overwrite.
+  EXPECT_FALSE(session.Save(path, &error, false));
+  EXPECT_NE(error.find("exists"), std::string::npos) << error;
+}
+
+// New drops the document and the hair (the UI asks first when Modified()).
+TEST_F(StudioSession, NewEmptiesTheSession) {
+  Open();
+  std::string error;
+  ASSERT_TRUE(session.SetParameter("hair.length", 0.21, &error)) << error;
+  EXPECT_TRUE(session.Modified());
+  session.New();
+  session.Wait();
+  EXPECT_FALSE(session.Modified());
+  EXPECT_FALSE(session.Hair());
+  EXPECT_FALSE(session.CanUndo());
+  EXPECT_TRUE(session.CurrentDocument().operations.empty());
 }
 
 TEST_F(StudioSession, OperationJsonRoundTrips) {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -742,6 +743,139 @@ TEST(StylingTest, StyleOperationRejectsBadParametersByName) {
   StyleOperation dry;
   dry.kind = StyleOperation::Kind::kDry;
   EXPECT_TRUE(dry.IsValid(&why)) << why;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Brushed operations: every operation takes a selection. Masters are solved independently (each
+// touches only the body), so the reference for a selected master is the same master after the
+// whole-head operation, bit for bit; an unselected master must keep its model and equilibrium
+// bit for bit.
+
+bool SameModelBits(const StrandModel& a, const StrandModel& b) {
+  return a.segment_lengths == b.segment_lengths && a.section.a == b.section.a &&
+         a.section.b == b.section.b && a.material.young_modulus == b.material.young_modulus &&
+         a.material.density == b.material.density && a.natural_curvature == b.natural_curvature &&
+         a.contact.clearance == b.contact.clearance;
+}
+
+// Checks `brushed` against `before` (unselected) and `whole` (selected), master by master.
+void ExpectBrushed(const StyledHair& before, const StyledHair& whole, const StyledHair& brushed,
+                   const std::vector<int>& selected, const char* what) {
+  ASSERT_EQ(brushed.solutions.size(), before.solutions.size());
+  int changed = 0;
+  for (size_t i = 0; i < before.solutions.size(); ++i) {
+    const bool in = std::find(selected.begin(), selected.end(), static_cast<int>(i)) !=
+                    selected.end();
+    const StyledHair& reference = in ? whole : before;
+    EXPECT_TRUE(SameModelBits(brushed.masters.models[i], reference.masters.models[i]))
+        << what << ": master " << i << (in ? " (selected)" : " (unselected)");
+    EXPECT_TRUE(brushed.solutions[i].curvatures == reference.solutions[i].curvatures)
+        << what << ": master " << i << (in ? " (selected)" : " (unselected)");
+    EXPECT_EQ(brushed.masters.wisp_radii[i], reference.masters.wisp_radii[i]) << what << " " << i;
+    changed += brushed.solutions[i].curvatures != before.solutions[i].curvatures ||
+               !SameModelBits(brushed.masters.models[i], before.masters.models[i]);
+  }
+  // Anti-vacuity: the operation did change some master.
+  EXPECT_GT(changed, 0) << what;
+}
+
+TEST(StylingTest, BrushedWetDryCutGrowActOnTheSelectedMastersOnly) {
+  const StyledHair start = Groomed(SmallStyle("caucasian", "wavy", 12, 0.25));
+  StrandSelection brush;
+  brush.indices = {1, 4, 5, 9};
+  std::string error;
+  // Wet.
+  StyledHair whole_wet = start, wet = start;
+  ASSERT_TRUE(Wet(&whole_wet, {}, {}, nullptr, &error)) << error;
+  OperationReport report;
+  ASSERT_TRUE(Wet(&wet, {}, {}, &report, &error, brush)) << error;
+  EXPECT_EQ(report.strands, 4);
+  ExpectBrushed(start, whole_wet, wet, brush.indices, "wet");
+  EXPECT_TRUE(wet.wet);
+  for (int i = 0; i < 12; ++i) EXPECT_EQ(IsWet(wet, i), i == 1 || i == 4 || i == 5 || i == 9);
+  // A second brushed wet of the same masters is refused; of others with other options too.
+  StyledHair again = wet;
+  EXPECT_FALSE(Wet(&again, {}, {}, nullptr, &error, brush));
+  EXPECT_NE(error.find("already wet"), std::string::npos) << error;
+  WetOptions other;
+  other.stiffness_factor = 0.3;
+  StrandSelection rest;
+  rest.indices = {0, 2};
+  EXPECT_FALSE(Wet(&again, other, {}, nullptr, &error, rest));
+  EXPECT_NE(error.find("options differ"), std::string::npos) << error;
+
+  // Dry of two of the four wet masters: the reference for them is drying every wet master
+  // (independent masters); their models are the start's again, bit for bit.
+  StrandSelection half;
+  half.indices = {4, 9};
+  StyledHair dry_half = wet, dry_all = wet;
+  ASSERT_TRUE(Dry(&dry_half, {}, &report, &error, half)) << error;
+  EXPECT_EQ(report.strands, 2);
+  ASSERT_TRUE(Dry(&dry_all, {}, nullptr, &error)) << error;
+  ExpectBrushed(wet, dry_all, dry_half, half.indices, "dry");
+  EXPECT_TRUE(dry_half.wet);  // 1 and 5 are still wet
+  EXPECT_TRUE(IsWet(dry_half, 1) && !IsWet(dry_half, 4));
+  for (int i : half.indices) {
+    EXPECT_TRUE(SameModelBits(dry_half.masters.models[i], start.masters.models[i])) << i;
+  }
+  EXPECT_FALSE(dry_all.wet);
+  EXPECT_TRUE(dry_all.wet_masters.empty());
+  StrandSelection dry_ones;
+  dry_ones.indices = {0, 4};
+  EXPECT_FALSE(Dry(&dry_half, {}, nullptr, &error, dry_ones));
+  EXPECT_NE(error.find("not wet"), std::string::npos) << error;
+
+  // Cut below z = -0.12 (the wavy 25-cm masters reach below it).
+  CutRegion plane;
+  plane.offset = -0.12;
+  StyledHair whole_cut = start, cut = start;
+  ASSERT_TRUE(Cut(&whole_cut, plane, {}, {}, nullptr, &error)) << error;
+  ASSERT_TRUE(Cut(&cut, plane, {}, {}, nullptr, &error, brush)) << error;
+  std::vector<int> really_cut;  // the selected masters the whole-head cut shortened
+  for (int i : brush.indices) {
+    if (whole_cut.masters.models[i].Length() < start.masters.models[i].Length()) {
+      really_cut.push_back(i);
+    }
+  }
+  ASSERT_FALSE(really_cut.empty());
+  ExpectBrushed(start, whole_cut, cut, brush.indices, "cut");
+
+  // Grow by 2 x 1 cm.
+  StyledHair whole_grow = start, grow = start;
+  ASSERT_TRUE(Grow(&whole_grow, 0.01, 2, {}, nullptr, nullptr, &error)) << error;
+  ASSERT_TRUE(Grow(&grow, 0.01, 2, {}, nullptr, &report, &error, brush)) << error;
+  EXPECT_EQ(report.strands, 4);
+  ExpectBrushed(start, whole_grow, grow, brush.indices, "grow");
+  for (int i : brush.indices) {
+    EXPECT_NEAR(grow.masters.models[i].Length(), start.masters.models[i].Length() + 0.02, 1e-12);
+  }
+
+  // A selection by range (the crown: polar angle <= 0.9 rad) through ApplyOperation, the path
+  // of the file's list: the same as the index list of the masters it selects.
+  StyleOperation op;
+  op.kind = StyleOperation::Kind::kCut;
+  op.cut_region = plane;
+  op.selection.max_polar_angle = 0.9;
+  StrandSelection crown;
+  for (int i = 0; i < 12; ++i) {
+    if (op.selection.Selects(i, start.masters.roots[i])) crown.indices.push_back(i);
+  }
+  ASSERT_FALSE(crown.indices.empty());
+  ASSERT_LT(crown.indices.size(), 12u);
+  StyledHair by_range = start, by_index = start;
+  ASSERT_TRUE(ApplyOperation(&by_range, op, {}, nullptr, nullptr, &error)) << error;
+  ASSERT_TRUE(Cut(&by_index, plane, {}, {}, nullptr, &error, crown)) << error;
+  for (int i = 0; i < 12; ++i) {
+    EXPECT_TRUE(by_range.solutions[i].curvatures == by_index.solutions[i].curvatures) << i;
+  }
+  // Indices beyond the masters are refused by every operation, naming the field.
+  StrandSelection bad;
+  bad.indices = {12};
+  StyledHair copy = start;
+  EXPECT_FALSE(Grow(&copy, 0.01, 1, {}, nullptr, nullptr, &error, bad));
+  EXPECT_NE(error.find("selection.indices: 12"), std::string::npos) << error;
+  EXPECT_FALSE(Wet(&copy, {}, {}, nullptr, &error, bad));
+  EXPECT_FALSE(Cut(&copy, plane, {}, {}, nullptr, &error, bad));
 }
 
 }  // namespace

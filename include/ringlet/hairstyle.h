@@ -198,4 +198,15 @@ bool GrowWisps(const Hairstyle& style, const HairstyleMasters& masters,
                const std::vector<StrandSolution>& solutions, HairCurves* strands,
                std::string* why);
 
+/// GrowWisps for the masters `which` only: *strands holds GrowWisps' output for masters with the
+/// same count and wisp options (every wisp has N strands of the same point count, so wisp i owns
+/// a fixed slice); the wisps of `which` are regrown in place (WispSeed(style.seed, i), the same
+/// sampling, radius and push-out as GrowWisps), the others are left as they are. The result is
+/// bit-identical to GrowWisps when only the masters in `which` changed since *strands was grown.
+/// Used by the studio after an edit that re-solved some masters. False (strands unchanged) when
+/// the layout does not match or an index is out of range.
+bool RegrowWisps(const Hairstyle& style, const HairstyleMasters& masters,
+                 const std::vector<StrandSolution>& solutions, const std::vector<int>& which,
+                 HairCurves* strands, std::string* why);
+
 }  // namespace ringlet

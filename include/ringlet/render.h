@@ -113,11 +113,19 @@ struct RenderOptions {
   /// true: each sample at a uniform random point of its pixel (box filter); false: every
   /// sample through the pixel's centre (tests that need to know where rays go).
   bool jitter = true;
-  /// Called after each finished tile with (tiles done, tiles total), never concurrently.
+  /// Called after each finished tile with (tiles done, tiles total), never concurrently; with
+  /// passes, the tiles of every pass count (total = tiles x passes).
   std::function<void(long, long)> progress;
-  /// Cooperative cancellation (may be null): once *cancel is true, tiles not yet started are
-  /// skipped and Render returns false with error "cancelled" (the image untouched). Read only
-  /// between tiles, so it never changes the pixels of a finished render.
+  /// Progressive rendering (the studio's render panel): when set, the samples of every pixel
+  /// are taken in passes of 1, 1, 2, 4, 8, ... (each pass doubles the samples taken, the last
+  /// one is what is left of samples_per_pixel) and this is called after each pass, never
+  /// concurrently, with the image so far (each pixel the mean of its samples taken) and the
+  /// samples per pixel taken. The final image is bit-identical to a render without passes:
+  /// sample s of a pixel has the same random stream and the per-pixel sums are taken in the same
+  /// order.
+  std::function<void(const Image&, int)> pass_done;
+  /// When not null and set (by another thread), the render stops after the tiles in flight and
+  /// Render returns false with the error "cancelled", leaving the image untouched.
   const std::atomic<bool>* cancel = nullptr;
 };
 

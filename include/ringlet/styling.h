@@ -65,14 +65,19 @@ struct StyledHair {
   Hairstyle style;
   HairstyleMasters masters;
   std::vector<StrandSolution> solutions;  ///< one per master, the current equilibrium
-  bool wet = false;                       ///< between Wet and Dry
-  WetOptions wet_options;                 ///< the options of the last Wet (valid while wet)
-  DryParameters dry;                      ///< what Dry restores (valid while wet)
+  bool wet = false;                       ///< some master is wet (between Wet and Dry)
+  /// Which masters are wet (one per master while wet; a brushed Wet wets some only).
+  std::vector<bool> wet_masters;
+  WetOptions wet_options;                 ///< the options of the Wets (valid while wet)
+  DryParameters dry;                      ///< what Dry restores (entries of wet masters)
   /// Where each generated strand was clipped by the cuts since the last grow (one per strand of
   /// GrowWisps' output, wisp by wisp; empty = none). Cut fills it, StyledStrands applies it,
   /// Grow clears it (the hair regrows: docs/styling.md, "Cut").
   std::vector<StrandCut> strand_cuts;
 };
+
+/// Whether master i is wet.
+bool IsWet(const StyledHair& state, int master);
 
 /// The styled state of a groom made from `style` (GroomHairstyle): copies of its masters and
 /// solutions. Returns false (with why) when the groom does not match (one solution per master).
@@ -80,7 +85,7 @@ bool MakeStyledHair(const Hairstyle& style, const Groom& groom, StyledHair* stat
                     std::string* why);
 
 /// The clearance of master i's contact model (m): r_w max(1, tip_scale) + layer l thickness f,
-/// with f = layer_factor while wet and 1 when dry (the same expression as BuildMasters).
+/// with f = layer_factor while master i is wet and 1 when dry (the same expression as BuildMasters).
 double MasterClearance(const StyledHair& state, int master);
 
 /// What one operation did.
@@ -139,16 +144,20 @@ bool CheckCurlHelix(double radius, double pitch, std::string* field, std::string
 bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection& selection,
           const BatchOptions& batch, OperationReport* report, std::string* why);
 
-/// Wet: every master's E times stiffness_factor, semi-axes times swelling, density from the
-/// absorbed water (WetOptions), clearance with the layer offset times layer_factor; remembers
-/// the dry parameters and re-solves. Rejects invalid options and hair that is already wet.
+/// Wet: every selected dry master's E times stiffness_factor, semi-axes times swelling, density
+/// from the absorbed water (WetOptions), clearance with the layer offset times layer_factor;
+/// remembers the dry parameters and re-solves them (the other masters keep their solution bit
+/// for bit). Rejects invalid options, a bad selection, a selection whose masters are all wet
+/// already, and options that differ from those of the masters already wet.
 bool Wet(StyledHair* state, const WetOptions& options, const BatchOptions& batch,
-         OperationReport* report, std::string* why);
+         OperationReport* report, std::string* why,
+         const StrandSelection& selection = StrandSelection());
 
-/// Dry: the exact inverse of Wet. Restores the remembered sections and materials bit for bit,
-/// the dry clearance, and re-solves warm-started from the wet equilibrium. Rejects dry hair.
+/// Dry: the exact inverse of Wet on the selected wet masters. Restores their remembered sections
+/// and materials bit for bit, the dry clearance, and re-solves them warm-started from the wet
+/// equilibrium. Rejects a bad selection and one without a wet master.
 bool Dry(StyledHair* state, const BatchOptions& batch, OperationReport* report,
-         std::string* why);
+         std::string* why, const StrandSelection& selection = StrandSelection());
 
 /// The region that a cut keeps; everything of a strand beyond the first point where its
 /// centreline leaves the region is removed (the paper: "removing the hair part located under a
@@ -219,15 +228,17 @@ StrandModel TruncateModel(const StrandModel& model, double arc_length, VecX* cur
 
 /// Cut: each master whose equilibrium leaves the region is truncated where it first leaves it
 /// (CutArcLength) and all cut masters are re-solved warm-started; with settle, iterated (CutOptions).
-/// Masters rooted outside the region are left uncut and counted in the message.
+/// Masters rooted outside the region are left uncut and counted in the message. Only the
+/// selected masters are cut; the others keep their model and solution bit for bit.
 bool Cut(StyledHair* state, const CutRegion& region, const CutOptions& options,
-         const BatchOptions& batch, OperationReport* report, std::string* why);
+         const BatchOptions& batch, OperationReport* report, std::string* why,
+         const StrandSelection& selection = StrandSelection());
 
 /// Cut below the height z (m): Cut with the plane n = +z, offset z.
 bool CutBelow(StyledHair* state, double z, const CutOptions& options, const BatchOptions& batch,
               OperationReport* report, std::string* why);
 
-/// Grow: `steps` times, every master grows by `step` (m) at its tip and is re-solved from the
+/// Grow: `steps` times, every selected master grows by `step` (m) at its tip and is re-solved from the
 /// previous step's equilibrium. The length is added to the last segment; when that segment
 /// would exceed the model's longest segment at the start, a new segment of the remainder is
 /// appended, starting from the last segment's curvatures (the helix continued) so the grid stays
@@ -239,9 +250,11 @@ bool CutBelow(StyledHair* state, double z, const CutOptions& options, const Batc
 /// has not been shaped. `sequence`, when not null, receives the state
 /// after each step (steps entries). Rejects a step outside (0, kMaxGrowStep], steps outside
 /// [1, kMaxGrowSteps], step x steps above kMaxGrowLength, and growth that would give a master
-/// more than kMaxSegments segments.
+/// more than kMaxSegments segments, and a bad selection. The unselected masters keep their model
+/// and solution bit for bit.
 bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
-          std::vector<StyledHair>* sequence, OperationReport* report, std::string* why);
+          std::vector<StyledHair>* sequence, OperationReport* report, std::string* why,
+          const StrandSelection& selection = StrandSelection());
 
 /// One styling operation with its parameters: an entry of a hairstyle file's "operations" list
 /// (ParseStyleOperations, docs/hairstyle-format.md) or one option of `ringlet style`. Only the
@@ -254,6 +267,7 @@ struct StyleOperation {
   /// left-handed), on the selected masters (Curl).
   double curl_radius = 0.0;
   double curl_pitch = 0.0;
+  /// The masters every kind acts on (the file's "select"; default: all).
   StrandSelection selection;
   /// Wet: the wetting model's parameters (WetOptions).
   WetOptions wet;
@@ -267,7 +281,7 @@ struct StyleOperation {
 
   /// Checks the parameters that do not depend on the hair (the checks of Curl, Wet, Cut and
   /// Grow, with their messages; selection indices only for >= 0, the upper bound is checked
-  /// by ApplyOperation). Says which field and what was expected.
+  /// by ApplyOperation, for every kind). Says which field and what was expected.
   bool IsValid(std::string* why) const;
 };
 

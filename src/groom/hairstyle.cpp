@@ -7,6 +7,9 @@
 #include <numbers>
 #include <utility>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "ringlet/helix.h"
 #include "ringlet/strand_geometry.h"
 
@@ -216,6 +219,52 @@ bool GrowWisps(const Hairstyle& style, const HairstyleMasters& masters,
                                     style.body.get(), &reason, &masters.wisp_radii);
   if (curves.NumStrands() == 0 && n > 0) return Fail(why, "wisps: " + reason);
   *strands = std::move(curves);
+  return true;
+}
+
+bool RegrowWisps(const Hairstyle& style, const HairstyleMasters& masters,
+                 const std::vector<StrandSolution>& solutions, const std::vector<int>& which,
+                 HairCurves* strands, std::string* why) {
+  const size_t n = masters.models.size();
+  const WispOptions& options = masters.wisp_options;
+  const size_t per_wisp = static_cast<size_t>(options.strands_per_wisp);
+  const size_t points = static_cast<size_t>(options.points_per_strand);
+  if (solutions.size() != n || masters.wisp_radii.size() != n) {
+    return Fail(why, "solutions: expected one per master");
+  }
+  if (strands->point_counts.size() != n * per_wisp || strands->points.size() != n * per_wisp * points ||
+      strands->widths.size() != strands->points.size() ||
+      strands->major_axes.size() != strands->points.size()) {
+    return Fail(why, "strands: expected the wisps of these masters (N strands of equal points)");
+  }
+  for (int i : which) {
+    if (i < 0 || static_cast<size_t>(i) >= n) {
+      return Fail(why, "which: " + std::to_string(i) + " is not a master index");
+    }
+  }
+  // One wisp per master, into its own slice: AppendWisp on a scratch HairCurves, copied over.
+  // The same calls as GenerateWisps' loop body (WriteWisp through AppendWisp).
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, which.size()),
+                    [&](const tbb::blocked_range<size_t>& range) {
+    HairCurves wisp;
+    for (size_t k = range.begin(); k != range.end(); ++k) {
+      const size_t i = static_cast<size_t>(which[k]);
+      const FramedCentreline centreline = SampleFramedCentreline(
+          masters.models[i], solutions[i].curvatures, style.master_points_per_segment);
+      wisp.point_counts.clear();
+      wisp.points.clear();
+      wisp.widths.clear();
+      wisp.major_axes.clear();
+      AppendWisp(centreline, masters.models[i].section, masters.wisp_radii[i], options,
+                 WispSeed(style.seed, i), style.body.get(), &wisp);
+      std::copy(wisp.point_counts.begin(), wisp.point_counts.end(),
+                strands->point_counts.begin() + i * per_wisp);
+      const size_t at = i * per_wisp * points;
+      std::copy(wisp.points.begin(), wisp.points.end(), strands->points.begin() + at);
+      std::copy(wisp.widths.begin(), wisp.widths.end(), strands->widths.begin() + at);
+      std::copy(wisp.major_axes.begin(), wisp.major_axes.end(), strands->major_axes.begin() + at);
+    }
+  });
   return true;
 }
 

@@ -203,11 +203,16 @@ bool MakeStyledHair(const Hairstyle& style, const Groom& groom, StyledHair* stat
   return true;
 }
 
+bool IsWet(const StyledHair& state, int master) {
+  return state.wet && (state.wet_masters.empty() || state.wet_masters[master]);
+}
+
 double MasterClearance(const StyledHair& state, int master) {
   const Hairstyle& style = state.style;
   // The same expression as BuildMasters (bit for bit when dry: thickness * 1 is not rounded).
-  const double thickness =
-      state.wet ? style.layers.thickness * state.wet_options.layer_factor : style.layers.thickness;
+  const double thickness = IsWet(state, master)
+                               ? style.layers.thickness * state.wet_options.layer_factor
+                               : style.layers.thickness;
   return state.masters.wisp_radii[master] * std::max(1.0, style.wisps.tip_scale) +
          state.masters.layers[master] * thickness;
 }
@@ -274,7 +279,7 @@ bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection&
     // The wisp thickness follows the curliness (BuildMasters), from the dry fibre radius.
     const WispOptions& wisps = state->style.wisps;
     if (wisps.wisp_radius <= 0.0) {
-      const CrossSection& dry = state->wet ? state->dry.sections[i] : m.section;
+      const CrossSection& dry = IsWet(*state, i) ? state->dry.sections[i] : m.section;
       state->masters.wisp_radii[i] = WispRadius(wisps.strands_per_wisp, dry.MeanRadius(),
                                                 HelixCurliness(natural), wisps.packing_fraction);
     }
@@ -294,18 +299,33 @@ bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection&
 // Wet and dry
 
 bool Wet(StyledHair* state, const WetOptions& options, const BatchOptions& batch,
-         OperationReport* report, std::string* why) {
+         OperationReport* report, std::string* why, const StrandSelection& selection) {
   const auto start = std::chrono::steady_clock::now();
   if (!options.IsValid(why)) return false;
-  if (state->wet) return Fail(why, "wet: the hair is already wet (dry it first)");
   const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
+  // The selected masters that are still dry (a brushed Wet may have wet some already).
+  std::vector<int> which;
+  for (int i = 0; i < n; ++i) {
+    if (selection.Selects(i, state->masters.roots[i]) && !IsWet(*state, i)) which.push_back(i);
+  }
+  if (which.empty()) return Fail(why, "wet: the hair is already wet (dry it first)");
+  if (state->wet && (options.stiffness_factor != state->wet_options.stiffness_factor ||
+                     options.swelling != state->wet_options.swelling ||
+                     options.water_density != state->wet_options.water_density ||
+                     options.layer_factor != state->wet_options.layer_factor)) {
+    return Fail(why, "wet: the options differ from those of the masters already wet (dry them "
+                     "first)");
+  }
   state->dry.sections.resize(n);
   state->dry.materials.resize(n);
+  if (!state->wet) state->wet_masters.assign(n, false);
   state->wet = true;
   state->wet_options = options;
-  std::vector<int> which(n);
-  std::vector<VecX> warm(n);
-  for (int i = 0; i < n; ++i) {
+  std::vector<VecX> warm(which.size());
+  for (size_t k = 0; k < which.size(); ++k) {
+    const int i = which[k];
+    state->wet_masters[i] = true;
     StrandModel& m = state->masters.models[i];
     state->dry.sections[i] = m.section;
     state->dry.materials[i] = m.material;
@@ -319,12 +339,11 @@ bool Wet(StyledHair* state, const WetOptions& options, const BatchOptions& batch
     m.material.density =
         (m.material.density * dry_area + options.water_density * (wet_area - dry_area)) / wet_area;
     m.contact.clearance = MasterClearance(*state, i);
-    which[i] = i;
-    warm[i] = state->solutions[i].curvatures;
+    warm[k] = state->solutions[i].curvatures;
   }
   OperationReport r;
   r.name = "wet";
-  r.strands = n;
+  r.strands = static_cast<int>(which.size());
   if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
   r.seconds = SecondsSince(start);
   r.message = Summary(r) + " (E x " + Number(options.stiffness_factor) + ", radius x " +
@@ -334,29 +353,41 @@ bool Wet(StyledHair* state, const WetOptions& options, const BatchOptions& batch
 }
 
 bool Dry(StyledHair* state, const BatchOptions& batch, OperationReport* report,
-         std::string* why) {
+         std::string* why, const StrandSelection& selection) {
   const auto start = std::chrono::steady_clock::now();
   if (!state->wet) return Fail(why, "dry: the hair is not wet (wet it first)");
   const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
   if (state->dry.sections.size() != static_cast<size_t>(n) ||
       state->dry.materials.size() != static_cast<size_t>(n)) {
     return Fail(why, "dry: the remembered dry parameters do not match the masters");
   }
-  state->wet = false;
-  std::vector<int> which(n);
-  std::vector<VecX> warm(n);
+  std::vector<int> which;
   for (int i = 0; i < n; ++i) {
+    if (selection.Selects(i, state->masters.roots[i]) && IsWet(*state, i)) which.push_back(i);
+  }
+  if (which.empty()) return Fail(why, "dry: the selected masters are not wet (wet them first)");
+  std::vector<VecX> warm(which.size());
+  if (state->wet_masters.empty()) state->wet_masters.assign(n, true);
+  for (size_t k = 0; k < which.size(); ++k) {
+    const int i = which[k];
+    state->wet_masters[i] = false;
     StrandModel& m = state->masters.models[i];
     m.section = state->dry.sections[i];
     m.material = state->dry.materials[i];
     m.contact.clearance = MasterClearance(*state, i);
-    which[i] = i;
-    warm[i] = state->solutions[i].curvatures;
+    warm[k] = state->solutions[i].curvatures;
   }
-  state->dry = DryParameters{};
+  // The last wet master dried: the hair is dry.
+  if (std::find(state->wet_masters.begin(), state->wet_masters.end(), true) ==
+      state->wet_masters.end()) {
+    state->wet = false;
+    state->wet_masters.clear();
+    state->dry = DryParameters{};
+  }
   OperationReport r;
   r.name = "dry";
-  r.strands = n;
+  r.strands = static_cast<int>(which.size());
   if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
   r.seconds = SecondsSince(start);
   r.message = Summary(r);
@@ -473,10 +504,12 @@ StrandModel TruncateModel(const StrandModel& model, double arc_length, VecX* cur
 }
 
 bool Cut(StyledHair* state, const CutRegion& region, const CutOptions& options,
-         const BatchOptions& batch, OperationReport* report, std::string* why) {
+         const BatchOptions& batch, OperationReport* report, std::string* why,
+         const StrandSelection& selection) {
   const auto start = std::chrono::steady_clock::now();
   if (!CheckCut(region, options, why)) return false;
   const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
   // Where each master first leaves the region, at the current equilibrium.
   std::vector<int> which;
   std::vector<VecX> warm;
@@ -485,6 +518,7 @@ bool Cut(StyledHair* state, const CutRegion& region, const CutOptions& options,
   std::vector<double> cut_at;
   int rooted_outside = 0;
   for (int i = 0; i < n; ++i) {
+    if (!selection.Selects(i, state->masters.roots[i])) continue;
     const StrandModel& m = state->masters.models[i];
     const double s = CutArcLength(m, state->solutions[i].curvatures, region,
                                   options.samples_per_segment);
@@ -581,7 +615,24 @@ bool Cut(StyledHair* state, const CutRegion& region, const CutOptions& options,
   HairCurves strands;
   if (!GrowWisps(state->style, state->masters, state->solutions, &strands, why)) return false;
   ApplyStrandCuts(state->strand_cuts, &strands);
-  const int clipped = ClipStrands(region, strands, &state->strand_cuts);
+  // Only the wisps of the selected masters are clipped (a brushed cut leaves the others whole).
+  std::vector<StrandCut> previous = state->strand_cuts;
+  previous.resize(strands.point_counts.size());
+  int clipped = ClipStrands(region, strands, &state->strand_cuts);
+  if (n > 0 && !state->strand_cuts.empty()) {
+    const size_t per_wisp = state->strand_cuts.size() / static_cast<size_t>(n);
+    for (int i = 0; i < n; ++i) {
+      if (selection.Selects(i, state->masters.roots[i])) continue;
+      for (size_t k = 0; k < per_wisp; ++k) {
+        const size_t j = static_cast<size_t>(i) * per_wisp + k;
+        if (state->strand_cuts[j].segment != previous[j].segment ||
+            state->strand_cuts[j].t != previous[j].t) {
+          state->strand_cuts[j] = previous[j];
+          --clipped;
+        }
+      }
+    }
+  }
   r.seconds = SecondsSince(start);
   r.message = Summary(r) + ", " + std::to_string(clipped) + " strands clipped";
   if (rooted_outside > 0) {
@@ -609,15 +660,21 @@ bool CutBelow(StyledHair* state, double z, const CutOptions& options, const Batc
 // Grow
 
 bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
-          std::vector<StyledHair>* sequence, OperationReport* report, std::string* why) {
+          std::vector<StyledHair>* sequence, OperationReport* report, std::string* why,
+          const StrandSelection& selection) {
   const auto start = std::chrono::steady_clock::now();
   if (!CheckGrow(step, steps, why)) return false;
   const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
+  std::vector<int> which;
+  for (int i = 0; i < n; ++i) {
+    if (selection.Selects(i, state->masters.roots[i])) which.push_back(i);
+  }
   // The longest segment of each master at the start: the grid resolution to keep. The growth
   // appends about step * steps / max_segment segments: more than kMaxSegments in all is refused
   // before any work (and before a loop that would never end).
   std::vector<double> max_segment(n);
-  for (int i = 0; i < n; ++i) {
+  for (int i : which) {
     const auto& l = state->masters.models[i].segment_lengths;
     max_segment[i] = *std::max_element(l.begin(), l.end());
     const double segments =
@@ -631,16 +688,23 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
   }
   OperationReport r;
   r.name = "grow";
-  r.strands = n;
+  r.strands = static_cast<int>(which.size());
   r.rounds = steps;
   if (sequence) sequence->clear();
-  std::vector<int> which(n);
-  for (int i = 0; i < n; ++i) which[i] = i;
-  // The hair regrows past the cut: the clips of earlier cuts no longer apply (docs/styling.md).
-  state->strand_cuts.clear();
+  // The hair regrows past the cut: the clips of earlier cuts no longer apply to the wisps of the
+  // grown masters (docs/styling.md).
+  if (!state->strand_cuts.empty()) {
+    const size_t per_wisp = state->strand_cuts.size() / static_cast<size_t>(n);
+    for (int i : which) {
+      for (size_t k = 0; k < per_wisp; ++k) {
+        state->strand_cuts[static_cast<size_t>(i) * per_wisp + k] = StrandCut{};
+      }
+    }
+  }
   for (int t = 0; t < steps; ++t) {
-    std::vector<VecX> warm(n);
-    for (int i = 0; i < n; ++i) {
+    std::vector<VecX> warm(which.size());
+    for (size_t k = 0; k < which.size(); ++k) {
+      const int i = which[k];
       std::vector<double>& l = state->masters.models[i].segment_lengths;
       double last = l.back() + step;
       l.pop_back();
@@ -660,7 +724,7 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
         }
       }
       const VecX& q = state->solutions[i].curvatures;
-      warm[i] = WarmStart(q, q, static_cast<int>(l.size()));
+      warm[k] = WarmStart(q, q, static_cast<int>(l.size()));
     }
     if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
     if (sequence) sequence->push_back(*state);
@@ -692,17 +756,16 @@ const char* OperationName(StyleOperation::Kind kind) {
 }
 
 bool StyleOperation::IsValid(std::string* why) const {
+  for (int i : selection.indices) {
+    if (i < 0) {
+      return Fail(why, "selection.indices: expected master indices >= 0, got " + std::to_string(i));
+    }
+  }
+  // The upper bound of the indices needs the hair: ApplyOperation checks it.
+  if (!selection.IsValid(std::numeric_limits<int>::max(), why)) return false;
   switch (kind) {
     case Kind::kCurl:
-      if (!CheckCurl(curl_radius, curl_pitch, why)) return false;
-      for (int i : selection.indices) {
-        if (i < 0) {
-          return Fail(why,
-                      "selection.indices: expected master indices >= 0, got " + std::to_string(i));
-        }
-      }
-      // The upper bound of the indices needs the hair: ApplyOperation checks it.
-      return selection.IsValid(std::numeric_limits<int>::max(), why);
+      return CheckCurl(curl_radius, curl_pitch, why);
     case Kind::kWet:
       return wet.IsValid(why);
     case Kind::kDry:
@@ -723,13 +786,14 @@ bool ApplyOperation(StyledHair* state, const StyleOperation& operation, const Ba
     case StyleOperation::Kind::kCurl:
       return Curl(state, op.curl_radius, op.curl_pitch, op.selection, batch, report, why);
     case StyleOperation::Kind::kWet:
-      return Wet(state, op.wet, batch, report, why);
+      return Wet(state, op.wet, batch, report, why, op.selection);
     case StyleOperation::Kind::kDry:
-      return Dry(state, batch, report, why);
+      return Dry(state, batch, report, why, op.selection);
     case StyleOperation::Kind::kCut:
-      return Cut(state, op.cut_region, op.cut, batch, report, why);
+      return Cut(state, op.cut_region, op.cut, batch, report, why, op.selection);
     case StyleOperation::Kind::kGrow:
-      return Grow(state, op.grow_step, op.grow_steps, batch, grow_sequence, report, why);
+      return Grow(state, op.grow_step, op.grow_steps, batch, grow_sequence, report, why,
+                  op.selection);
   }
   return Fail(why, "operation: unknown kind");
 }

@@ -364,12 +364,13 @@ constexpr NumberRule kLayerFactorRule{"a finite number in [0, 1]",
 constexpr NumberRule kHeightRule{"a finite number (m)", [](double) { return true; }};
 
 // "select": {"indices": [...]} or {"polar_angle": [min, max], "height": [min, max]}.
-bool ParseSelection(Reader& reader, const json& curl, const std::string& curl_path,
+// Every operation may have one (curl, wet, dry, cut, grow).
+bool ParseSelection(Reader& reader, const json& operation, const std::string& operation_path,
                     StrandSelection* selection) {
   const json* object = nullptr;
-  if (!OptionalObject(reader, curl, curl_path, "select", &object)) return false;
+  if (!OptionalObject(reader, operation, operation_path, "select", &object)) return false;
   if (!object) return true;
-  const std::string path = Member(curl_path, "select");
+  const std::string path = Member(operation_path, "select");
   if (!reader.CheckFields(*object, path, {"indices", "polar_angle", "height"})) return false;
   const json* indices = nullptr;
   const char* expected_indices = "an array of master indices (integers >= 0)";
@@ -448,8 +449,9 @@ bool ParseCurlOperation(Reader& reader, const json& curl, const std::string& pat
 bool ParseWetOperation(Reader& reader, const json& wet, const std::string& path,
                        StyleOperation* op) {
   WetOptions& w = op->wet;
-  return reader.CheckFields(wet, path,
-                            {"stiffness_factor", "swelling", "water_density", "layer_factor"}) &&
+  return reader.CheckFields(
+             wet, path, {"stiffness_factor", "swelling", "water_density", "layer_factor", "select"}) &&
+         ParseSelection(reader, wet, path, &op->selection) &&
          reader.ReadNumber(wet, path, "stiffness_factor", kStiffnessFactorRule, false,
                            &w.stiffness_factor) &&
          reader.ReadNumber(wet, path, "swelling", kSwellingRule, false, &w.swelling) &&
@@ -463,7 +465,8 @@ bool ParseCutOperation(Reader& reader, const json& cut, const std::string& path,
                        StyleOperation* op) {
   if (!reader.CheckFields(cut, path,
                           {"z", "plane", "sphere", "length", "settle", "tolerance", "max_rounds",
-                           "samples_per_segment"})) {
+                           "samples_per_segment", "select"}) ||
+      !ParseSelection(reader, cut, path, &op->selection)) {
     return false;
   }
   const char* kinds = "exactly one of \"z\", \"plane\", \"sphere\", \"length\"";
@@ -532,7 +535,8 @@ bool ParseGrowOperation(Reader& reader, const json& grow, const std::string& pat
                         StyleOperation* op) {
   static constexpr NumberRule kGrowStepRule{"a finite number in (0, 1] (m)",
                                             [](double x) { return x > 0.0 && x <= kMaxGrowStep; }};
-  return reader.CheckFields(grow, path, {"step", "steps"}) &&
+  return reader.CheckFields(grow, path, {"step", "steps", "select"}) &&
+         ParseSelection(reader, grow, path, &op->selection) &&
          reader.ReadNumber(grow, path, "step", kGrowStepRule, true, &op->grow_step) &&
          reader.ReadInteger(grow, path, "steps", 1, kMaxGrowSteps, &op->grow_steps);
 }
@@ -580,7 +584,8 @@ bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOper
           ok = ParseWetOperation(reader, value, op_path, &op);
           break;
         case Kind::kDry:
-          if (!value.empty()) ok = reader.Expected(op_path, "an empty object {}", value);
+          ok = reader.CheckFields(value, op_path, {"select"}) &&
+               ParseSelection(reader, value, op_path, &op.selection);
           break;
         case Kind::kCut:
           ok = ParseCutOperation(reader, value, op_path, &op);

@@ -418,14 +418,27 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
   result.width = width;
   result.height = height;
   result.pixels.assign(static_cast<size_t>(width) * height, Eigen::Vector3f::Zero());
+  // Per pixel: the sum of its finite samples so far and their number (passes add to them in
+  // sample order, so the mean is the same whatever the passes).
+  std::vector<Rgb> sums(static_cast<size_t>(width) * height, Rgb::Zero());
+  std::vector<int> counts(static_cast<size_t>(width) * height, 0);
   std::atomic<std::int64_t> rays{0};
   std::atomic<std::int64_t> nan_samples{0};
   std::mutex progress_mutex;
   long tiles_done = 0;
+  // The passes: [0, 1), [1, 2), [2, 4), [4, 8), ... up to spp; one pass without pass_done.
+  std::vector<int> pass_end;
+  if (options.pass_done) {
+    for (int end = 1; end < spp; end = std::min(spp, 2 * end)) pass_end.push_back(end);
+  }
+  pass_end.push_back(spp);
+  const long total_tiles = tiles * static_cast<long>(pass_end.size());
+  const auto cancelled = [&options] {
+    return options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed);
+  };
 
-  auto render_tile = [&](long index) {
-    // Cancelled: the tiles not yet started are skipped and the call fails below.
-    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) return;
+  auto render_tile = [&](long index, int s_begin, int s_end) {
+    if (cancelled()) return;
     const int x0 = static_cast<int>(index % tiles_x) * tile;
     const int y0 = static_cast<int>(index / tiles_x) * tile;
     const int x1 = std::min(x0 + tile, width);
@@ -435,9 +448,9 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
     for (int y = y0; y < y1; ++y) {
       for (int x = x0; x < x1; ++x) {
         const std::uint64_t pixel = static_cast<std::uint64_t>(y) * width + x;
-        Rgb sum = Rgb::Zero();
-        int valid = 0;
-        for (int s = 0; s < spp; ++s) {
+        Rgb& sum = sums[pixel];
+        int& valid = counts[pixel];
+        for (int s = s_begin; s < s_end; ++s) {
           SampleRng rng(options.seed, pixel, static_cast<std::uint64_t>(s));
           // Box filter: a uniform point in the pixel (its centre without jitter).
           const double jx = rng.Uniform();
@@ -460,19 +473,24 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
     nan_samples += tile_nans;
     if (options.progress) {
       std::lock_guard<std::mutex> lock(progress_mutex);
-      options.progress(++tiles_done, tiles);
+      options.progress(++tiles_done, total_tiles);
     }
   };
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<long>(0, tiles, 1), [&](const tbb::blocked_range<long>& r) {
-      for (long i = r.begin(); i != r.end(); ++i) render_tile(i);
+  int s_begin = 0;
+  for (const int s_end : pass_end) {
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<long>(0, tiles, 1), [&](const tbb::blocked_range<long>& r) {
+        for (long i = r.begin(); i != r.end(); ++i) render_tile(i, s_begin, s_end);
+      });
     });
-  });
-
-  if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
-    if (error) *error = "cancelled";
-    return false;
+    if (cancelled()) {
+      if (error != nullptr) *error = "cancelled";
+      return false;
+    }
+    if (options.pass_done) options.pass_done(result, s_end);
+    s_begin = s_end;
   }
+
   *image = std::move(result);
   if (stats != nullptr) {
     stats->camera_rays = static_cast<std::int64_t>(width) * height * spp;

@@ -1,8 +1,11 @@
 """Content checks of the studio's screenshots (tests/studio_screenshot_test.sh).
 
 A minimal PNG reader (8-bit RGB/RGBA, non-interlaced: what ringlet's WritePng writes), then:
-hair-coloured pixels where the hair is, cyan (brushed) curls after the brushed curl, fewer hair
-pixels in the lower part of the hair after the cut, and the ImGui panel on the left.
+hair-coloured pixels where the hair is, cyan (brushed) curls after the brushed curl, fewer cyan
+pixels and as many others after the brushed wet and cut, the cut plane gizmo in the view, fewer
+hair pixels in the lower part of the hair after the plane cut, the ImGui panel on the left, the
+render panel's window and its PNG (hair-coloured, not uniform), and the exported files (counts
+read back: 300 wisps of 10 strands of 24 points).
 """
 import struct
 import sys
@@ -56,6 +59,25 @@ def read_png(path):
     return out.reshape(height, width, channels)[:, :, :3]
 
 
+def read_ppm(path):
+    """A binary PPM (P6, 8 bits): the studio's screenshots in the test (fast to read)."""
+    data = open(path, "rb").read()
+    fields, pos = [], 0
+    while len(fields) < 4:  # magic, width, height, maxval, separated by whitespace
+        while data[pos:pos + 1].isspace():
+            pos += 1
+        end = pos
+        while not data[end:end + 1].isspace():
+            end += 1
+        fields.append(data[pos:end])
+        pos = end
+    assert fields[0] == b"P6" and fields[3] == b"255", path
+    width, height = int(fields[1]), int(fields[2])
+    pixels = np.frombuffer(data[pos + 1:pos + 1 + width * height * 3], np.uint8)
+    assert pixels.size == width * height * 3, path
+    return pixels.reshape(height, width, 3).astype(np.int32)
+
+
 def hair_mask(image):
     """Brown-orange fibres: red dominant, blue well below red (the skin is paler, b/r ~ 0.8)."""
     r, g, b = image[:, :, 0], image[:, :, 1], image[:, :, 2]
@@ -71,8 +93,36 @@ def cyan_mask(image):
     return mask
 
 
+def orange_mask(image):
+    """The cut gizmo's lines (1, 0.55, 0.2) and fill (1, 0.35, 0.2)."""
+    r, g, b = image[:, :, 0], image[:, :, 1], image[:, :, 2]
+    mask = (r > 200) & (g > 60) & (g < 190) & (b < 110)
+    mask[:, :PANEL] = False
+    return mask
+
+
+def check_exports(directory):
+    strands, points = 300 * 10, 300 * 10 * 24
+    data = open(f"{directory}/styled.hair", "rb").read()
+    assert data[:4] == b"HAIR", "styled.hair: no HAIR signature"
+    n_strands, n_points = struct.unpack("<II", data[4:12])
+    print(f"styled.hair: {n_strands} strands, {n_points} points")
+    assert (n_strands, n_points) == (strands, points)
+    obj = open(f"{directory}/styled.obj").read().splitlines()
+    v = sum(1 for line in obj if line.startswith("v "))
+    lines = sum(1 for line in obj if line.startswith("l "))
+    print(f"styled.obj: {v} vertices, {lines} polylines")
+    assert (v, lines) == (points, strands)
+    usda = open(f"{directory}/styled.usda").read()
+    assert usda.startswith("#usda 1.0") and "BasisCurves" in usda, "styled.usda: not a USD curves file"
+    counts = usda[usda.index("curveVertexCounts"):].split("[", 1)[1].split("]", 1)[0].split(",")
+    print(f"styled.usda: {len(counts)} curves")
+    assert len(counts) == strands and all(int(c) == 24 for c in counts)
+
+
 def main(directory):
-    images = {name: read_png(f"{directory}/{name}.png") for name in ("before", "curl", "cut", "wet_orbit")}
+    images = {name: read_ppm(f"{directory}/{name}.ppm")
+              for name in ("before", "curl", "brushed_cut", "gizmo", "cut", "wet_orbit", "render_panel")}
     before = hair_mask(images["before"])
     rows = np.nonzero(before.any(axis=1))[0]
     print(f"before: {before.sum()} hair pixels, rows {rows.min()}..{rows.max()}")
@@ -83,6 +133,17 @@ def main(directory):
     curl_cyan = cyan_mask(images["curl"]).sum()
     print(f"curl: {curl_cyan} brushed (cyan) pixels")
     assert curl_cyan > 200, "the brushed, curled masters are not highlighted"
+    # The brushed wet and cut: fewer brushed (cyan) pixels, the other hair kept.
+    brushed_cut = images["brushed_cut"]
+    cyan_after = cyan_mask(brushed_cut).sum()
+    others_before, others_after = hair_mask(images["curl"]).sum(), hair_mask(brushed_cut).sum()
+    print(f"brushed wet + cut: cyan {curl_cyan} -> {cyan_after}, other hair {others_before} -> {others_after}")
+    assert cyan_after < 0.8 * curl_cyan, "the brushed cut should shorten the brushed masters"
+    assert others_after > 0.85 * others_before, "the brushed cut should keep the other hair"
+    # The cut plane gizmo: orange in the view, not before.
+    gizmo = orange_mask(images["gizmo"]).sum()
+    print(f"gizmo: {gizmo} plane pixels (before: {orange_mask(images['before']).sum()})")
+    assert gizmo > 500 and orange_mask(images["before"]).sum() < 50, "the cut plane is not shown"
     # The cut: hair below the lower third of the uncut hair's height mostly gone.
     low = rows.min() + 2 * (rows.max() - rows.min()) // 3
     cut = hair_mask(images["cut"]) | cyan_mask(images["cut"])
@@ -98,6 +159,20 @@ def main(directory):
     bright = (panel.min(axis=2) > 180).sum()
     print(f"panel: {bright} bright pixels")
     assert bright > 2000, "the panel is missing"
+    # The render panel: a dark ImGui window over the view, and the rendered PNG shows hair.
+    window = images["render_panel"][20:400, PANEL + 20:PANEL + 400]
+    dark = (window.max(axis=2) < 30).mean()
+    print(f"render panel: {dark:.2f} of its window dark")
+    render = read_png(f"{directory}/render.png")
+    # Something (hair, body) in front of the environment: pixels far from the top-left corner's.
+    background = render[0, 0]
+    subject = (np.abs(render - background).max(axis=2) > 30).mean()
+    print(f"render.png: {render.shape[1]} x {render.shape[0]}, {subject:.2f} not background, "
+          f"std {render.std():.1f}")
+    assert render.shape[1] == 96 and render.std() > 5, "the render is empty or uniform"
+    assert 0.05 < subject < 0.9, "nothing rendered in front of the environment"
+    assert dark > 0.05, "the render panel's window is missing"
+    check_exports(directory)
     print("screenshots: ok")
 
 
