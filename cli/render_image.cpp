@@ -10,7 +10,7 @@
 #include "progress.h"
 #include "ringlet/atomic_file.h"
 #include "ringlet/png_image.h"
-#include "ringlet/render_setup.h"
+#include "ringlet/render_json.h"
 
 namespace ringlet::cli {
 

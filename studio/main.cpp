@@ -41,7 +41,7 @@
 #include "ringlet/png_image.h"
 #include "ringlet/render.h"
 #include "ringlet/render_json.h"
-#include "ringlet/render_setup.h"
+#include "ringlet/render_json.h"
 #include "ringlet/strand_export.h"
 #include "session.h"
 #include "viewer.h"
