@@ -16,9 +16,12 @@
 #include "bindings.h"
 #include "ringlet/hair_curves.h"
 #include "ringlet/hair_file.h"
+#include "ringlet/strand_targets.h"
+#include "ringlet/usc_data.h"
 #include "ringlet/hairstyle.h"
 #include "ringlet/hairstyle_json.h"
 #include "ringlet/obj_export.h"
+#include "ringlet/render_json.h"
 #include "ringlet/styling.h"
 #include "ringlet/usd_export.h"
 #include "types.h"
@@ -368,10 +371,13 @@ void BindHair(py::module_& m) {
             },
             &cancel);
         if (!ok) throw Error(error);
+        // The display colour of the file's melanins, as `ringlet groom` writes it.
+        SetMelaninColours(result->hairstyle->render, &result->groom.strands);
         return result;
       },
       py::arg("hairstyle"), py::arg("threads") = 0, py::arg("base_directory") = ".",
-      "Grooms a hairstyle (GroomHairstyle, as `ringlet groom`: the unstyled hair): a "
+      "Grooms a hairstyle (GroomHairstyle, as `ringlet groom`: the unstyled hair, each strand "
+      "coloured by the file's melanins, MelaninDisplayColour): a "
       "Hairstyle, a path or a dict (relative paths from base_directory). threads: 0 = all "
       "cores (results do not depend on it). Returns a Groom. Releases the GIL; Ctrl-C stops it "
       "(KeyboardInterrupt).");
@@ -459,10 +465,11 @@ void BindHair(py::module_& m) {
             HairCurves curves;
             std::string error;
             if (!StyledStrands(s.state, &curves, &error)) throw Error(error);
+            SetMelaninColours(s.hairstyle->render, &curves);  // as `ringlet style` writes them
             return curves;
           },
-          "The strands of the current state (masters sampled and wisps grown): a new "
-          "HairCurves.")
+          "The strands of the current state (masters sampled and wisps grown, coloured by the "
+          "hairstyle's melanins as `ringlet style` writes them): a new HairCurves.")
       .def_property_readonly(
           "wet_state", [](const Styled& s) { return s.state.wet; }, "True between wet and dry.")
       .def_property_readonly(
@@ -477,8 +484,7 @@ void BindHair(py::module_& m) {
           "hairstyle", [](const Styled& s) { return std::const_pointer_cast<HairstyleFile>(s.hairstyle); },
           "The Hairstyle it came from.");
 
-  // Readers and writers. New formats (the .data reader and others) go here, one function each,
-  // named as their C++ function.
+  // Readers and writers, one function each, named as their C++ function.
   m.def("read_hair_file", &ReadHair, py::arg("path"), py::arg("units_per_metre") = 1.0,
         "Reads a Cem Yuksel .hair file (hair_file.h) into HairCurves (m: file values divided by "
         "units_per_metre). Every count and size is checked; errors start with the path.");
@@ -559,6 +565,87 @@ void BindHair(py::module_& m) {
       },
       py::arg("path"), py::arg("curves"), py::arg("overwrite") = false,
       "Writes OBJ polylines (metres, z up; obj_export.h), atomically.");
+
+  // Strands read as targets (strand_targets.h) and the USC-HairSalon .data format (usc_data.h).
+  auto target_options = [](double units_per_metre, const std::string& up, double default_width,
+                           bool ignore_file_metadata) {
+    StrandTargetOptions o;
+    o.units_per_metre = units_per_metre;
+    if (up == "z" || up == "Z") {
+      o.up_axis = StrandTargetOptions::UpAxis::kZ;
+    } else if (up == "y" || up == "Y") {
+      o.up_axis = StrandTargetOptions::UpAxis::kY;
+    } else {
+      throw Error("up: expected \"z\" or \"y\", got \"" + up + "\"");
+    }
+    o.default_width = default_width;
+    o.ignore_file_metadata = ignore_file_metadata;
+    std::string why;
+    if (!o.IsValid(&why)) throw Error(why);
+    return o;
+  };
+  m.def(
+      "read_strand_targets",
+      [target_options](const std::string& path, double units_per_metre, const std::string& up,
+                       double default_width, bool ignore_file_metadata) {
+        const StrandTargetOptions o =
+            target_options(units_per_metre, up, default_width, ignore_file_metadata);
+        HairCurves curves;
+        std::string error;
+        bool ok = false;
+        {
+          py::gil_scoped_release release;  // a large file takes seconds
+          ok = ReadStrandTargets(path, o, &curves, &error);
+        }
+        if (!ok) throw Error(error);
+        return curves;
+      },
+      py::arg("path"), py::arg("units_per_metre") = 1.0, py::arg("up") = "z",
+      py::arg("default_width") = 70e-6, py::arg("ignore_file_metadata") = false,
+      "Reads strands from .hair, .data (USC-HairSalon), .usda (linear BasisCurves) or .obj "
+      "(l polylines) by extension (ReadStrandTargets, docs/file-formats.md): metres, z up "
+      "(file values divided by units_per_metre; up=\"y\" rotates a y-up file, (x, y, z) -> "
+      "(x, -z, y)); default_width (m) for files without widths. Every strand is checked; errors "
+      "name the file, strand and point.");
+  m.def(
+      "decode_usc_data",
+      [target_options](const py::bytes& bytes, double units_per_metre, const std::string& up,
+                       double default_width) {
+        const StrandTargetOptions o = target_options(units_per_metre, up, default_width, false);
+        HairCurves curves;
+        std::string error;
+        if (!DecodeUscData(std::string_view(bytes), o, &curves, nullptr, &error)) {
+          throw Error(error);
+        }
+        return curves;
+      },
+      py::arg("data"), py::arg("units_per_metre") = 1.0, py::arg("up") = "y",
+      py::arg("default_width") = 70e-6,
+      "The bytes of a USC-HairSalon .data file -> HairCurves (metres, z up; the database is y "
+      "up, hence up=\"y\" by default). Strands of 0 or 1 vertex (no hair) are skipped.");
+  m.def(
+      "encode_usc_data",
+      [target_options](const HairCurves& curves, double units_per_metre, const std::string& up) {
+        const StrandTargetOptions o = target_options(units_per_metre, up, 70e-6, false);
+        std::string bytes, error;
+        if (!EncodeUscData(curves, o, &bytes, &error)) throw Error(error);
+        return py::bytes(bytes);
+      },
+      py::arg("curves"), py::arg("units_per_metre") = 1.0, py::arg("up") = "y",
+      "The bytes of the .data file write_usc_data writes (points only: the format has no "
+      "widths or colours).");
+  m.def(
+      "write_usc_data",
+      [target_options](const std::string& path, const HairCurves& curves, double units_per_metre,
+                       const std::string& up, bool overwrite) {
+        const StrandTargetOptions o = target_options(units_per_metre, up, 70e-6, false);
+        std::string error;
+        if (!WriteUscData(path, curves, o, overwrite, &error)) throw Error(error);
+      },
+      py::arg("path"), py::arg("curves"), py::arg("units_per_metre") = 1.0, py::arg("up") = "y",
+      py::arg("overwrite") = false,
+      "Writes a USC-HairSalon .data file atomically (y up by default, as the database). An "
+      "existing file is an error unless overwrite.");
 }
 
 }  // namespace ringlet::python

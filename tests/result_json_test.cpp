@@ -195,6 +195,14 @@ ordered_json ReferenceDocument(const std::vector<StrandResult>& results, double 
     strand["points"] = points;
     strand["curvatures"] = curvatures;
     strand["segment_lengths"] = lengths;
+    if (r.rest_curvatures.size() >= 3) {  // only strands with a per-segment rest shape
+      ordered_json rest = ordered_json::array();
+      for (Eigen::Index i = 0; i + 2 < r.rest_curvatures.size(); i += 3) {
+        rest.push_back(
+            triple(r.rest_curvatures(i), r.rest_curvatures(i + 1), r.rest_curvatures(i + 2)));
+      }
+      strand["rest_curvatures"] = rest;
+    }
     strand["energy"]["elastic"] = number(s.energy.elastic);
     strand["energy"]["gravity"] = number(s.energy.gravity);
     strand["energy"]["contact"] = number(s.energy.contact);
@@ -226,6 +234,9 @@ ordered_json ReferenceDocument(const std::vector<StrandResult>& results, double 
   units["points"] = "m, world coordinates, root to tip";
   units["curvatures"] = "1/m: [kappa1, kappa2, tau] per segment in the material frame (n1, n2, t)";
   units["segment_lengths"] = "m";
+  units["rest_curvatures"] =
+      "1/m: [kappa1^0, kappa2^0, tau^0] per segment, the rest shape (only for strands that have "
+      "one, e.g. from ringlet invert)";
   units["energy"] = "J: elastic, gravity (measured from the root), contact penalty and their total";
   units["gradient_norm"] = "J m: norm of the energy gradient with respect to the curvatures";
   units["residual"] = "dimensionless: internal-moment mismatch relative to the largest moment";

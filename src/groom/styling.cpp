@@ -700,6 +700,10 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
         state->strand_cuts[static_cast<size_t>(i) * per_wisp + k] = StrandCut{};
       }
     }
+    if (std::all_of(state->strand_cuts.begin(), state->strand_cuts.end(),
+                    [](const StrandCut& c) { return c.segment < 0; })) {
+      state->strand_cuts.clear();  // nothing clipped any more (a whole-head grow)
+    }
   }
   for (int t = 0; t < steps; ++t) {
     std::vector<VecX> warm(which.size());
@@ -719,8 +723,8 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
       if (m.HasRestShape()) {
         const Eigen::Index kept = m.rest_curvatures.size();
         m.rest_curvatures.conservativeResize(3 * m.NumSegments());
-        for (Eigen::Index k = kept; k < m.rest_curvatures.size(); k += 3) {
-          m.rest_curvatures.segment<3>(k) = m.natural_curvature;
+        for (Eigen::Index j = kept; j < m.rest_curvatures.size(); j += 3) {
+          m.rest_curvatures.segment<3>(j) = m.natural_curvature;
         }
       }
       const VecX& q = state->solutions[i].curvatures;

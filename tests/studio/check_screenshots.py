@@ -102,22 +102,25 @@ def orange_mask(image):
 
 
 def check_exports(directory):
-    strands, points = 300 * 10, 300 * 10 * 24
+    # 300 masters x 10 strands of 24 points, some clipped by the session's cut (a cut ends every
+    # strand where it leaves the kept region): the same strands and points in every format.
+    strands, max_points = 300 * 10, 300 * 10 * 24
     data = open(f"{directory}/styled.hair", "rb").read()
     assert data[:4] == b"HAIR", "styled.hair: no HAIR signature"
     n_strands, n_points = struct.unpack("<II", data[4:12])
     print(f"styled.hair: {n_strands} strands, {n_points} points")
-    assert (n_strands, n_points) == (strands, points)
+    assert n_strands == strands and max_points // 2 < n_points <= max_points
     obj = open(f"{directory}/styled.obj").read().splitlines()
     v = sum(1 for line in obj if line.startswith("v "))
     lines = sum(1 for line in obj if line.startswith("l "))
-    print(f"styled.obj: {v} vertices, {lines} polylines")
-    assert (v, lines) == (points, strands)
+    print(f"styled.obj: {v} vertices, {lines} segments")
+    assert (v, lines) == (n_points, n_points - strands)  # 2-vertex segments, one per edge
     usda = open(f"{directory}/styled.usda").read()
     assert usda.startswith("#usda 1.0") and "BasisCurves" in usda, "styled.usda: not a USD curves file"
     counts = usda[usda.index("curveVertexCounts"):].split("[", 1)[1].split("]", 1)[0].split(",")
     print(f"styled.usda: {len(counts)} curves")
-    assert len(counts) == strands and all(int(c) == 24 for c in counts)
+    assert len(counts) == strands and all(2 <= int(c) <= 24 for c in counts)
+    assert sum(int(c) for c in counts) == n_points
 
 
 def main(directory):
