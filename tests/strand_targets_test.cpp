@@ -562,5 +562,19 @@ TEST(StrandTargets, FileAndOptionErrors) {
   EXPECT_EQ(ReadError(huge_path), huge_path + ": header: negative strand count -1 (bytes 0-3 read as a little-endian int32)");
 }
 
+// Found by the fuzzer (tests/fuzz/fuzz_usda_targets.cpp): a prim name holding newlines made the
+// message span several lines. Every message is one line of bounded length.
+TEST(StrandTargets, UsdaMessageIsOneBoundedLineWhateverTheNames) {
+  const std::string path =
+      std::string(RINGLET_TEST_DATA_DIR) + "/robustness/usda_prim_name_newline.usda";
+  HairCurves curves;
+  std::string why;
+  ASSERT_FALSE(ReadStrandTargets(path, StrandTargetOptions{}, &curves, &why));
+  EXPECT_EQ(why.find_first_of("\n\r"), std::string::npos) << why;
+  EXPECT_NE(why.find("line "), std::string::npos) << why;
+  EXPECT_LT(why.size(), path.size() + 500) << why;
+  EXPECT_EQ(curves.NumStrands(), 0);
+}
+
 }  // namespace
 }  // namespace ringlet

@@ -233,8 +233,17 @@ class Parser {
   }
 
  private:
+  // One line of bounded length whatever the file holds: prim names and paths come from the
+  // file and may hold newlines or be long (found by the fuzzer, tests/fuzz/fuzz_usda_targets.cpp),
+  // so control characters become '?' and the message is cut at kMaxMessage characters.
   bool Fail(const std::string& what) {
-    if (error_.empty()) error_ = what;
+    static constexpr size_t kMaxMessage = 400;
+    if (!error_.empty()) return false;
+    for (const char c : what.substr(0, kMaxMessage)) {
+      const unsigned char u = static_cast<unsigned char>(c);
+      error_ += u < 0x20 || u == 0x7f ? '?' : c;
+    }
+    if (what.size() > kMaxMessage) error_ += "...";
     return false;
   }
   bool FailAt(const Token& t, const std::string& what) {
