@@ -233,17 +233,9 @@ class Parser {
   }
 
  private:
-  // One line of bounded length whatever the file holds: prim names and paths come from the
-  // file and may hold newlines or be long (found by the fuzzer, tests/fuzz/fuzz_usda_targets.cpp),
-  // so control characters become '?' and the message is cut at kMaxMessage characters.
+  // (ParseUsdaCurves makes every message one bounded line.)
   bool Fail(const std::string& what) {
-    static constexpr size_t kMaxMessage = 400;
-    if (!error_.empty()) return false;
-    for (const char c : what.substr(0, kMaxMessage)) {
-      const unsigned char u = static_cast<unsigned char>(c);
-      error_ += u < 0x20 || u == 0x7f ? '?' : c;
-    }
-    if (what.size() > kMaxMessage) error_ += "...";
+    if (error_.empty()) error_ = what;
     return false;
   }
   bool FailAt(const Token& t, const std::string& what) {
@@ -848,7 +840,20 @@ bool ParseUsdaCurves(std::string_view text, TextStrands* out, std::string* error
   }
   TextStrands result;
   Parser parser(text, &result);
-  if (!parser.Parse(error)) return false;
+  if (!parser.Parse(error)) {
+    // One line of bounded length whatever the file holds (prim names, paths and tokens come
+    // from the file; found by the fuzzer, tests/fuzz/fuzz_usda_targets.cpp): control characters
+    // become '?' and the message is cut at 400 characters.
+    constexpr size_t kMaxMessage = 400;
+    std::string line;
+    for (const char c : error->substr(0, kMaxMessage)) {
+      const unsigned char u = static_cast<unsigned char>(c);
+      line += u < 0x20 || u == 0x7f ? '?' : c;
+    }
+    if (error->size() > kMaxMessage) line += "...";
+    *error = std::move(line);
+    return false;
+  }
   *out = std::move(result);
   return true;
 }
