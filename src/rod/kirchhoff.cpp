@@ -12,14 +12,18 @@
 namespace ringlet {
 namespace {
 
-// 8-point Gauss-Legendre nodes and weights on [-1, 1] (Abramowitz & Stegun, table 25.4).
-constexpr double kNodes[4] = {0.183434642495649805, 0.525532409916328986, 0.796666477413626740,
-                              0.960289856497536232};
-constexpr double kWeights[4] = {0.362683783378361983, 0.313706645877887287, 0.222381034453374471,
-                                0.101228536290376259};
-// Quadrature pieces turn by at most this angle: the 8-point rule is exact to rounding on these
-// trigonometric integrands while a piece turns by less than ~2 rad (DESIGN.md, "The gradient is
-// the internal moment"); 1 rad keeps a factor 2 of margin and halves the cost of 0.5 rad.
+// 6-point Gauss-Legendre nodes and weights on [-1, 1] (Abramowitz & Stegun, table 25.4). The
+// rule's error on a piece of length h is h^13 (6!)^4 / (13 (12!)^3) |M^(12)| (A&S 25.4.30); the
+// integrand M(u) in material coordinates is a degree-1 polynomial in u times sines and cosines of
+// frequency up to 2 |Omega| (the rotation R(u)^T applied to a moment that turns with r(u)), so on
+// a piece turning by theta = |Omega| h its relative error is about
+//   (2 theta)^12 (6!)^4 / (13 (12!)^3) = 7.7e-13 at theta = 1 rad, 4e-15 at 0.64 rad,
+// and far below at the turns of real hair segments: 1,000 times below the smallest tolerance the
+// solver takes (1e-9). The 8-point rule it replaces (1e-18 at 1 rad, below rounding) took a third
+// more evaluations (docs/benchmarks.md, "CLI overhead").
+constexpr double kNodes[3] = {0.238619186083196909, 0.661209386466264514, 0.932469514203152028};
+constexpr double kWeights[3] = {0.467913934572691047, 0.360761573048138608, 0.171324492379170345};
+// Quadrature pieces turn by at most this angle (the error bound above).
 constexpr double kMaxTurnPerInterval = 1.0;  // rad
 // At most this many pieces per segment (a segment turning by more than 4096 rad is not a hair;
 // the cap keeps the count an int whatever the curvature).
@@ -113,7 +117,8 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
         }
       }
       moment += torque - r.cross(force);
-      return Vec3((g.frames[i] * part.rotation).transpose() * moment);  // material coordinates
+      // Material coordinates: (F_i R(u))^T M = R(u)^T (F_i^T M), two matrix-vector products.
+      return Vec3(part.rotation.transpose() * (g.frames[i].transpose() * moment));
     };
     const double turn_pieces = std::ceil(omega.norm() * l / kMaxTurnPerInterval);
     int pieces = turn_pieces >= 1.0 ? static_cast<int>(std::min(turn_pieces, kMaxPiecesPerSegment))
@@ -124,7 +129,7 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
     Vec3 integral = Vec3::Zero();
     for (int p = 0; p < pieces; ++p) {
       const double mid = (p + 0.5) * h;
-      for (int q = 0; q < 4; ++q) {
+      for (int q = 0; q < 3; ++q) {
         const double d = 0.5 * h * kNodes[q];
         integral += (0.5 * h * kWeights[q]) * (moment_below(mid - d) + moment_below(mid + d));
       }
