@@ -15,6 +15,7 @@
 #include "ringlet/render.h"
 #include "ringlet/statics.h"
 #include "ringlet/strand_model.h"
+#include "test_util.h"
 
 namespace ringlet {
 namespace {
@@ -31,6 +32,34 @@ TEST(Limits, DenseBfgsSegments) {
     EXPECT_TRUE(CheckMethodSegments(kMaxSegments, m, &why));
     EXPECT_FALSE(CheckMethodSegments(kMaxSegments + 1, m, &why));
   }
+}
+
+// The library's own boundary: SolveStrand never builds BFGS's dense 3n x 3n inverse Hessian above
+// kMaxBfgsSegments (72 MB per strand at 1001 segments, 28.8 GB at 20,000), whatever its caller
+// asks; it solves with L-BFGS instead and says so. The evidence that L-BFGS ran: the curvatures
+// equal, bit for bit, those of an explicit L-BFGS solve.
+TEST(Limits, SolveStrandRefusesDenseBfgsAboveTheLimit) {
+  SolveOptions bfgs;
+  bfgs.method = Method::kBfgs;
+  bfgs.max_iterations = 3;
+  bfgs.check_stability = false;
+  SolveOptions lbfgs = bfgs;
+  lbfgs.method = Method::kLbfgs;
+  const StrandModel big = testing::MakeStrand(0.1, kMaxBfgsSegments + 1, 0.0, Vec3::Zero(),
+                                              testing::HorizontalFrame());
+  const StrandSolution refused = SolveStrand(big, bfgs);
+  EXPECT_NE(refused.summary.message.find(
+                "(method \"bfgs\" refused above 1000 segments, its dense inverse Hessian takes "
+                "72 n^2 bytes: solved with \"lbfgs\")"),
+            std::string::npos)
+      << refused.summary.message;
+  EXPECT_TRUE(refused.curvatures == SolveStrand(big, lbfgs).curvatures);
+  // At the limit BFGS runs as asked: no note, and not the L-BFGS iterates.
+  const StrandModel at_limit = testing::MakeStrand(0.1, kMaxBfgsSegments, 0.0, Vec3::Zero(),
+                                                   testing::HorizontalFrame());
+  const StrandSolution dense = SolveStrand(at_limit, bfgs);
+  EXPECT_EQ(dense.summary.message.find("refused"), std::string::npos);
+  EXPECT_FALSE(dense.curvatures == SolveStrand(at_limit, lbfgs).curvatures);
 }
 
 TEST(Limits, RenderPixelsAndSamples) {

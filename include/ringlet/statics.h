@@ -58,7 +58,8 @@ Method ResolveMethod(Method method, const StrandModel& model);
 /// Options of SolveStrand.
 struct SolveOptions {
   /// kAuto by default: L-BFGS (same iterations as dense BFGS on light hair, 2-6x faster) below
-  /// kAutoNewtonLoad, Newton with the exact Hessian above (docs/benchmarks.md).
+  /// kAutoNewtonLoad, Newton with the exact Hessian above (docs/benchmarks.md). kBfgs on a
+  /// strand of more than kMaxBfgsSegments segments runs L-BFGS instead (the message says so).
   Method method = Method::kAuto;
   /// Iteration budget of one minimization (each stability restart gets its own).
   int max_iterations = 1000;

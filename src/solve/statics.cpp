@@ -229,6 +229,12 @@ StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options
                               : VecX::Zero(objective.Dimension());
   internal::MinimizerOptions minimizer_options;
   minimizer_options.method = ResolveMethod(options.method, model);
+  // Dense BFGS keeps a 3n x 3n inverse Hessian (72 n^2 bytes): the readers refuse it above
+  // kMaxBfgsSegments (CheckMethodSegments); a caller of the library that asks for it anyway gets
+  // L-BFGS, and the summary's message says so, rather than an allocation of gigabytes.
+  const bool bfgs_refused =
+      minimizer_options.method == Method::kBfgs && model.NumSegments() > kMaxBfgsSegments;
+  if (bfgs_refused) minimizer_options.method = Method::kLbfgs;
   minimizer_options.max_iterations = options.max_iterations;
   minimizer_options.tolerance = options.tolerance;
 
@@ -281,6 +287,11 @@ StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options
   if (!std::isfinite(summary.energy.total) || !gradient.allFinite()) {
     summary.termination = Termination::kNonFinite;
     summary.stable = false;
+  }
+  if (bfgs_refused) {
+    summary.message += " (method \"bfgs\" refused above " + std::to_string(kMaxBfgsSegments) +
+                       " segments, its dense inverse Hessian takes 72 n^2 bytes: solved with "
+                       "\"lbfgs\")";
   }
   solution.summary = summary;
   return solution;
