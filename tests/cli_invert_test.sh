@@ -75,11 +75,13 @@ EOF
 
 # The sag-free groom (docs/inverse.md, "The sag-free groom"): the masters of a small groom on the
 # sphere mannequin, inverted with the body, are groomed again from OUT/hairstyle.json to the
-# same centrelines (the groom's own masters.json against the original one, 1e-9 L), and
-# `ringlet style` wets and cuts that hairstyle.
+# same centrelines (the groom's own masters.json against the original one, 1e-9 L; measured
+# 5e-16 L: each solve starts at its target and stops there, 0 iterations), and `ringlet style`
+# wets (the mean tip drops by 2.3 cm) and cuts that hairstyle. With masters.seed 1 every target
+# is certified stable (seed 2 has one that is not without more contact: reported, exit code 2).
 cat >"$work/small.json" <<EOF
 {"body": "$EXAMPLES/bodies/mannequin.json",
- "masters": {"count": 12, "seed": 2, "segments": 10},
+ "masters": {"count": 12, "seed": 1, "segments": 10},
  "hair": {"origin": "caucasian", "curl": "wavy", "length": 0.2},
  "wisps": {"strands_per_wisp": 3, "points_per_strand": 8}}
 EOF
@@ -121,8 +123,9 @@ assert mean_tip_z(wet) < mean_tip_z(dry) - 1e-3, (mean_tip_z(wet), mean_tip_z(dr
 for d, c in zip(dry, cut):
     assert abs(sum(c["segment_lengths"]) - min(0.1, sum(d["segment_lengths"]))) < 1e-12
     n = len(c["segment_lengths"])
-    # The kept segments keep their rest curvatures.
-    assert c["rest_curvatures"][: n - 1] == d["rest_curvatures"][: n - 1]
+    assert n < len(d["segment_lengths"])
+    # The kept segments keep their rest curvatures, the shortened one's included.
+    assert c["rest_curvatures"] == d["rest_curvatures"][:n]
 EOF
 
 # Existing outputs are not overwritten without --force.
