@@ -118,15 +118,18 @@ void AddHairstyleOutputs(const InvertArgs& args, const std::vector<StrandModel>&
     e.clearance = m.contact.clearance;
   }
   // The body file relative to the output directory when it can be (the outputs move together).
-  std::error_code ec;
-  const fs::path body = fs::weakly_canonical(fs::absolute(args.body_path), ec);
-  const fs::path out = fs::weakly_canonical(fs::absolute(args.output_dir), ec);
-  fs::path relative = body.lexically_relative(out);
+  std::error_code body_ec, out_ec;
+  const fs::path body = fs::weakly_canonical(fs::absolute(args.body_path, body_ec), body_ec);
+  const fs::path out = fs::weakly_canonical(fs::absolute(args.output_dir, out_ec), out_ec);
+  const bool ec = body_ec || out_ec;
+  const fs::path relative = ec ? fs::path() : body.lexically_relative(out);
   nlohmann::ordered_json hairstyle = {
       {"description", "sag-free groom written by ringlet invert from " +
                           fs::path(args.target_path).filename().string() +
                           " (docs/inverse.md)"},
-      {"body", ec || relative.empty() ? body.string() : relative.string()},
+      {"body", !relative.empty() ? relative.string()
+               : !body_ec        ? body.string()
+                                 : args.body_path},
       {"masters", {{"file", kHairstyleOutputs[1]}}},
       {"layers", {{"count", 1}}}};
   if (!args.hair_type.empty()) {
