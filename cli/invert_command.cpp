@@ -8,6 +8,10 @@
 //   equilibrium.hair   the forward equilibria from the inverted rest shapes
 //   naive.hair         the forward equilibria from the naive rest shapes (the sag)
 //   summary.json       counts, fit errors, deviations, unstable strands, times
+// and with --body a sag-free groom (AddHairstyleOutputs):
+//   hairstyle.json     a hairstyle whose masters are the inverted strands, given by
+//   explicit_masters.json  (rest shapes, the targets as the solves' start): `ringlet groom`,
+//                      `ringlet style` and the studio read it
 //
 // Exit codes: 0 every target held stably, 2 some target is unstable or a forward solve did not
 // converge (files written, the summary says which), 1 bad usage or input (nothing written).
@@ -30,6 +34,7 @@
 #include "ringlet/hair_file.h"
 #include "ringlet/hair_type.h"
 #include "ringlet/inverse.h"
+#include "ringlet/masters_json.h"
 #include "ringlet/result_targets.h"
 #include "ringlet/scene_json.h"
 #include "ringlet/strand_geometry.h"
@@ -54,6 +59,8 @@ struct InvertArgs {
 
 constexpr const char* kOutputs[] = {"rest_shapes.json", "equilibrium.hair", "naive.hair",
                                     "summary.json"};
+// With --body: a sag-free groom (docs/inverse.md, "The sag-free groom").
+constexpr const char* kHairstyleOutputs[] = {"hairstyle.json", "explicit_masters.json"};
 
 std::string Lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -85,6 +92,55 @@ bool MaterialOf(const InvertArgs& args, int index, StrandModel* model, std::stri
   return true;
 }
 
+// The sag-free groom of the inverted strands (with --body only: a hairstyle needs a body):
+// hairstyle.json, whose masters are given by explicit_masters.json (docs/hairstyle-format.md,
+// "Explicit masters"), each with its inverted rest shape, the target as the start of its solve
+// (so `ringlet groom` finds the inverted equilibrium, not another one), invert's section,
+// material, natural curl and contact clearance, and one hull layer (invert's contact has no
+// layer offset). `ringlet groom hairstyle.json` then reproduces the equilibria, and `ringlet
+// style` can cut, wet or grow them.
+void AddHairstyleOutputs(const InvertArgs& args, const std::vector<StrandModel>& inverted,
+                         const std::vector<VecX>& targets,
+                         std::vector<std::pair<std::string, std::string>>* files) {
+  namespace fs = std::filesystem;
+  std::vector<ExplicitMaster> masters(inverted.size());
+  for (size_t i = 0; i < inverted.size(); ++i) {
+    const StrandModel& m = inverted[i];
+    ExplicitMaster& e = masters[i];
+    e.root_position = m.root_position;
+    e.root_frame = m.root_frame;
+    e.segment_lengths = m.segment_lengths;
+    e.section = m.section;
+    e.material = m.material;
+    e.natural_curvature = m.natural_curvature;
+    e.rest_curvatures = m.rest_curvatures;
+    e.start_curvatures = targets[i];
+    e.clearance = m.contact.clearance;
+  }
+  // The body file relative to the output directory when it can be (the outputs move together).
+  std::error_code body_ec, out_ec;
+  const fs::path body = fs::weakly_canonical(fs::absolute(args.body_path, body_ec), body_ec);
+  const fs::path out = fs::weakly_canonical(fs::absolute(args.output_dir, out_ec), out_ec);
+  const bool ec = body_ec || out_ec;
+  const fs::path relative = ec ? fs::path() : body.lexically_relative(out);
+  nlohmann::ordered_json hairstyle = {
+      {"description", "sag-free groom written by ringlet invert from " +
+                          fs::path(args.target_path).filename().string() +
+                          " (docs/inverse.md)"},
+      {"body", !relative.empty() ? relative.string()
+               : !body_ec        ? body.string()
+                                 : args.body_path},
+      {"masters", {{"file", kHairstyleOutputs[1]}}},
+      {"layers", {{"count", 1}}}};
+  if (!args.hair_type.empty()) {
+    const size_t slash = args.hair_type.find('/');
+    hairstyle["hair"] = {{"origin", args.hair_type.substr(0, slash)}};
+    if (slash != std::string::npos) hairstyle["hair"]["curl"] = args.hair_type.substr(slash + 1);
+  }
+  files->emplace_back(kHairstyleOutputs[0], hairstyle.dump(2) + "\n");
+  files->emplace_back(kHairstyleOutputs[1], MastersToString(masters));
+}
+
 int RunInvert(const InvertArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   std::string error;
@@ -104,6 +160,9 @@ int RunInvert(const InvertArgs& args) {
     return kExitBadInput;
   }
   std::vector<std::string> names(std::begin(kOutputs), std::end(kOutputs));
+  if (!args.body_path.empty()) {
+    names.insert(names.end(), std::begin(kHairstyleOutputs), std::end(kHairstyleOutputs));
+  }
   if (!CheckOutputDirectory(args.output_dir, names, args.force, &error)) {
     PrintError(error);
     return kExitBadInput;
@@ -275,6 +334,7 @@ int RunInvert(const InvertArgs& args) {
     }
     files.emplace_back(name, std::move(bytes));
   }
+  if (!args.body_path.empty()) AddHairstyleOutputs(args, inverted, targets, &files);
   summary["seconds"] = SecondsSince(start);
   files.emplace_back("summary.json", summary.dump(1) + "\n");
   if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
@@ -306,14 +366,18 @@ Command AddInvertCommand(CLI::App* parent) {
       "invert",
       "Inverse statics: rest shapes that hold target strands under gravity (and body contact), "
       "certified stable and verified by the forward solve; writes rest_shapes.json (a scene), "
-      "equilibrium.hair, naive.hair and summary.json. Exit code 0 when every target holds "
-      "stably, 2 when some cannot (files still written), 1 on bad usage or input.");
+      "equilibrium.hair, naive.hair and summary.json, and with --body hairstyle.json + "
+      "explicit_masters.json (a sag-free groom for ringlet groom / style). Exit code 0 when "
+      "every target holds stably, 2 when some cannot (files still written), 1 on bad usage or "
+      "input.");
   app->add_option("target", args->target_path,
                   "Target strands: a ringlet result or masters JSON (exact), or a .hair file")
       ->required();
   app->add_option("-o,--output", args->output_dir, "Output directory (created if missing)")
       ->required();
-  app->add_option("--body", args->body_path, "Body file (JSON, docs/body.md) for contact");
+  app->add_option("--body", args->body_path,
+                  "Body file (JSON, docs/body.md) for contact; also writes hairstyle.json and "
+                  "explicit_masters.json, a sag-free groom on that body");
   app->add_option("--clearance", args->clearance, "Contact clearance (m), default 0")
       ->check(CLI::Range(0.0, 0.1));
   app->add_option("--hair-type", args->hair_type,

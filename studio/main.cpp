@@ -673,15 +673,27 @@ void Panel(App* app) {
 
   // The hairstyle, in groomers' words.
   ImGui::Separator();
+  // Explicit masters (a masters file, e.g. from `ringlet invert`): the controls that would
+  // sample them again are disabled (the parser refuses those keys with masters.file).
+  const nlohmann::ordered_json masters_file = s.Parameter("masters.file");
+  const bool explicit_masters = !masters_file.is_null();
+  if (explicit_masters) {
+    ImGui::TextWrapped("masters from %s: length, master count, root seed and comb come from "
+                       "that file (disabled)", masters_file.dump().c_str());
+  }
   if (ImGui::CollapsingHeader("Hair", ImGuiTreeNodeFlags_DefaultOpen)) {
     FieldCombo(app, "origin", "hair.origin", {"asian", "caucasian", "african"}, "caucasian");
     FieldCombo(app, "curl type", "hair.curl", {"straight", "wavy", "curly", "kinky"}, "wavy");
+    ImGui::BeginDisabled(explicit_masters);
     FieldSlider(app, "length (m)", "hair.length", 0.05f, 0.8f, 0.25f);
+    ImGui::EndDisabled();
     FieldInt(app, "hair seed", "hair.seed", 0, 100, 1);
   }
   if (ImGui::CollapsingHeader("Masters and wisps")) {
+    ImGui::BeginDisabled(explicit_masters);
     FieldInt(app, "masters", "masters.count", 10, 3000, 1000);
     FieldInt(app, "root seed", "masters.seed", 0, 100, 0);
+    ImGui::EndDisabled();
     FieldInt(app, "strands/wisp", "wisps.strands_per_wisp", 1, 200, 100);
     FieldSlider(app, "tip scale", "wisps.tip_scale", 0.0f, 2.0f, 0.5f);
     FieldSlider(app, "jitter (m)", "wisps.jitter", 0.0f, 0.01f, 0.0f, "%.4f");
@@ -690,8 +702,10 @@ void Panel(App* app) {
     FieldSlider(app, "layer gap (m)", "layers.thickness", 0.0f, 0.01f, 0.004f, "%.4f");
   }
   if (ImGui::CollapsingHeader("Comb")) {
+    ImGui::BeginDisabled(explicit_masters);
     FieldSlider(app, "tilt (rad)", "comb.tilt", 0.0f, 1.5707f, 1.2f);
     FieldSlider(app, "parting offset", "comb.parting.offset", -0.08f, 0.08f, 0.0f);
+    ImGui::EndDisabled();
   }
 
   // Operations.

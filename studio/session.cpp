@@ -179,6 +179,12 @@ ojson DocumentToJson(const Document& document, const std::string& directory) {
       }
     }
   }
+  // An explicit masters file ("masters": {"file": ...}) follows the file too.
+  if (out.contains("masters") && out["masters"].is_object() && out["masters"].contains("file") &&
+      out["masters"]["file"].is_string()) {
+    ojson& file = out["masters"]["file"];
+    file = Rebase(file.get<std::string>(), document.base_directory, directory);
+  }
   out.erase("operations");
   if (!document.operations.empty()) {
     ojson ops = ojson::array();
@@ -587,10 +593,17 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
     const int n = static_cast<int>(groom->masters.models.size());
     groom->solutions.resize(n);
     std::vector<int> todo;
+    // Where each master's solve starts: the natural shape, or an explicit master's start.
+    const std::vector<VecX>& starts = groom->masters.start_curvatures;
+    const auto start_of = [](const HairstyleMasters& m, int i) {
+      return m.start_curvatures.empty() ? VecX() : m.start_curvatures[i];
+    };
     for (int i = 0; i < n; ++i) {
       if (same_solver && previous->base &&
           static_cast<int>(previous->base->masters.models.size()) == n &&
-          SameModel(groom->masters.models[i], previous->base->masters.models[i])) {
+          SameModel(groom->masters.models[i], previous->base->masters.models[i]) &&
+          start_of(groom->masters, i).size() == start_of(previous->base->masters, i).size() &&
+          start_of(groom->masters, i) == start_of(previous->base->masters, i)) {
         groom->solutions[i] = previous->base->solutions[i];
         ++stats.reused;
       } else {
@@ -604,10 +617,15 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
       if (cancel.load()) return false;
       const size_t end = std::min(todo.size(), begin + block);
       std::vector<StrandModel> models;
-      for (size_t k = begin; k < end; ++k) models.push_back(groom->masters.models[todo[k]]);
+      std::vector<VecX> warm;
+      for (size_t k = begin; k < end; ++k) {
+        models.push_back(groom->masters.models[todo[k]]);
+        if (!starts.empty()) warm.push_back(starts[todo[k]]);
+      }
       BatchOptions b;
       b.threads = threads_;
-      std::vector<StrandSolution> solved = SolveStrands(models, style.solver, b);
+      std::vector<StrandSolution> solved =
+          SolveStrands(models, style.solver, b, starts.empty() ? nullptr : &warm);
       for (size_t k = begin; k < end; ++k) {
         stats.iterations += solved[k - begin].summary.iterations;
         groom->solutions[todo[k]] = std::move(solved[k - begin]);

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "ringlet/hairstyle_json.h"
+#include "ringlet/masters_json.h"
 #include "ringlet/styling.h"
 #include "session.h"
 
@@ -435,6 +436,75 @@ TEST_F(StudioSession, NewerEditCancelsStaleSolve) {
   EXPECT_GE(session.CancelledSolves(), 1);
   const std::string path = TempPath("cancel.json");
   ASSERT_TRUE(session.Save(path, &error)) << error;
+  ExpectSameBits(*session.Hair()->strands, StyleFile(path));
+}
+
+// A hairstyle with explicit masters (a masters file: the groom's own masters with a rest shape
+// bent by 5 1/m, ExplicitMastersOf): the studio opens it, refuses the parameters that would
+// sample the masters (one line naming the field), applies operations, and the file it saves
+// in another directory (masters file path rewritten) gives the same hair through `ringlet
+// style`'s code path, bit for bit.
+TEST(StudioExplicitMasters, OpenStyleSaveRoundTrip) {
+  std::string error;
+  Hairstyle sampled;
+  ASSERT_TRUE(ParseHairstyle(nlohmann::json(SmallDocument(16)), RINGLET_EXAMPLES_DIR, &sampled,
+                             &error))
+      << error;
+  HairstyleMasters built;
+  ASSERT_TRUE(BuildMasters(sampled, &built, &error)) << error;
+  std::vector<ExplicitMaster> masters = ExplicitMastersOf(built);
+  for (ExplicitMaster& m : masters) {
+    const int n = static_cast<int>(m.segment_lengths.size());
+    m.rest_curvatures.resize(3 * n);
+    for (int i = 0; i < n; ++i) {
+      m.rest_curvatures.segment<3>(3 * i) = *m.natural_curvature + Vec3(-5.0 * i / n, 0.0, 0.0);
+    }
+  }
+  const std::string masters_path = TempPath("explicit/masters.json");
+  std::filesystem::create_directories(std::filesystem::path(masters_path).parent_path());
+  std::ofstream(masters_path) << MastersToString(masters);
+  ojson document = SmallDocument(16);
+  document["body"] = std::string(RINGLET_EXAMPLES_DIR) + "/bodies/mannequin.json";
+  document["masters"] = {{"file", "masters.json"}};
+  document.erase("comb");
+  document["hair"].erase("length");
+
+  Session session;
+  ASSERT_TRUE(session.OpenDocument(document, std::filesystem::path(masters_path).parent_path(),
+                                   "explicit.json", &error))
+      << error;
+  session.Wait();
+  ASSERT_TRUE(session.Hair());
+  EXPECT_EQ(session.Hair()->stats.masters, 16);
+  EXPECT_EQ(session.Hair()->styled.masters.models[3].rest_curvatures.size(),
+            3 * session.Hair()->styled.masters.models[3].NumSegments());
+  // The message names the hairstyle key that is refused (the comb object as a whole).
+  for (const auto& [field, named] : std::vector<std::pair<std::string, std::string>>{
+           {"masters.count", "masters.count"}, {"hair.length", "hair.length"},
+           {"comb.tilt", "comb"}}) {
+    EXPECT_FALSE(session.SetParameter(field, 0.3, &error)) << field;
+    EXPECT_EQ(error.rfind(named + ": not with masters.file", 0), 0u) << error;
+    EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  }
+  EXPECT_FALSE(session.CanUndo());
+  StyleOperation wet;
+  wet.kind = StyleOperation::Kind::kWet;
+  ASSERT_TRUE(session.AddOperation(wet, &error)) << error;
+  StyleOperation cut;
+  cut.kind = StyleOperation::Kind::kCut;
+  cut.cut_region.kind = CutRegion::Kind::kMaxLength;
+  cut.cut_region.length = 0.15;
+  ASSERT_TRUE(session.AddOperation(cut, &error)) << error;
+  ASSERT_TRUE(session.SetParameter("wisps.jitter", 0.002, &error)) << error;
+  session.Wait();
+  ASSERT_TRUE(session.UpToDate());
+
+  const std::string path = TempPath("saved_explicit/styled.json");
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  ASSERT_TRUE(session.Save(path, &error)) << error;
+  std::ifstream saved(path);
+  const ojson written = ojson::parse(saved);
+  EXPECT_EQ(written["masters"]["file"], "../explicit/masters.json");
   ExpectSameBits(*session.Hair()->strands, StyleFile(path));
 }
 

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -48,6 +49,51 @@ SolveOptions GroomSolveOptions();
 /// strands take 28 bytes per point (position, width, major axis: 7.5 GB at the limit) and the
 /// text exports ~40 more per point each; HairCurves' int counts would allow 2^31 - 1.
 inline constexpr long long kMaxHairPoints = 1LL << 28;
+
+/// One master strand given explicitly (a masters file, docs/hairstyle-format.md "Explicit
+/// masters"; written by `ringlet invert`, docs/inverse.md) instead of sampled from the scalp and
+/// the hair type. What is not given is taken as for a sampled master i (BuildMasters).
+struct ExplicitMaster {
+  /// Root position r(0) on (or near) the scalp (m).
+  Vec3 root_position = Vec3::Zero();
+  /// Material frame at the root, world_from_material: columns (n1, n2, t), a proper rotation.
+  Mat3 root_frame = Mat3::Identity();
+  /// Segment lengths, root to tip (m), each > 0; their count is the master's segment count n.
+  std::vector<double> segment_lengths;
+  /// Section and material; absent: the hair type's for master i (SampleStrand).
+  std::optional<CrossSection> section;
+  std::optional<Material> material;
+  /// The hair type's natural curl (kappa1^0, kappa2^0, tau^0) (1/m): the curvature of hair that
+  /// grows (Grow) and of the wisp thickness; absent: the hair type's for master i, with
+  /// BuildMasters' sign (kappa1^0 <= 0).
+  std::optional<Vec3> natural_curvature;
+  /// The rest shape per segment, 3n (1/m), or empty: natural_curvature on every segment
+  /// (StrandModel::rest_curvatures).
+  VecX rest_curvatures;
+  /// Where the master's solve starts, 3n curvatures (1/m), or empty: the natural (rest) shape
+  /// as for sampled masters. `ringlet invert` gives the target, so that the groom finds the
+  /// inverted equilibrium itself rather than another one.
+  VecX start_curvatures;
+  /// Hull layer (>= 0, < layers.count); absent: HullLayerOf from the root's polar angle.
+  std::optional<int> layer;
+  /// Wisp radius r_w (m, >= 0); absent: as for a sampled master (wisps.wisp_radius, or
+  /// WispRadius from the curliness of natural_curvature).
+  std::optional<double> wisp_radius;
+  /// The contact clearance without the hull-layer offset (m, >= 0): absent, r_w max(1,
+  /// tip_scale) as for sampled masters. `ringlet invert` gives its --clearance.
+  std::optional<double> clearance;
+};
+
+/// Masters given explicitly by a masters file (Hairstyle::explicit_masters).
+struct ExplicitMasters {
+  /// The file as the hairstyle names it ("masters": {"file": ...}), relative to the hairstyle.
+  std::string file;
+  std::vector<ExplicitMaster> masters;
+};
+
+/// Most masters of a hairstyle: the largest masters.count, and the most masters a masters file
+/// may list.
+inline constexpr int kMaxMasters = 1000000;
 
 /// Everything that defines a hairstyle; immutable once built (ParseHairstyle, or by hand).
 struct Hairstyle {
@@ -106,6 +152,11 @@ struct Hairstyle {
   std::uint64_t seed = 1;
   /// Gravitational acceleration (m/s^2), the same for every strand.
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+  /// Explicit masters (a masters file) instead of sampled ones; null = sampled. With them the
+  /// roots, comb, length, segments and grading above are not used (the file has them); the
+  /// scalp still gives the head coordinates of the roots (selections, hull layers) and, with
+  /// roots.packing, the spacing that spread_roots uses: r = sqrt(packing A / N).
+  std::shared_ptr<const ExplicitMasters> explicit_masters;
 
   /// Checks every field (and the parts' own IsValid); says which field and what was expected.
   bool IsValid(std::string* why) const;
@@ -120,6 +171,14 @@ struct HairstyleMasters {
   std::vector<StrandModel> models;
   std::vector<int> layers;         ///< hull layer of each master
   std::vector<double> wisp_radii;  ///< r_w of each master (m): WispRadius from the natural curl
+  /// The contact clearance of each master without its hull-layer offset (m): r_w max(1,
+  /// tip_scale), or an explicit master's clearance. The contact model's clearance is this plus
+  /// layer x layers.thickness (styling.h, MasterClearance). Empty (a HairstyleMasters made by
+  /// hand) means r_w max(1, tip_scale) for every master.
+  std::vector<double> contact_radii;
+  /// Where each master's solve starts: empty (every master from its natural shape) or one
+  /// vector per master, each empty (natural shape) or 3n curvatures (explicit masters).
+  std::vector<VecX> start_curvatures;
   WispOptions wisp_options;        ///< the hairstyle's wisp options with spread_roots applied
   RootSamplingSummary root_summary;
 };
@@ -130,6 +189,10 @@ struct HairstyleMasters {
 /// r_w = WispRadius(strands_per_wisp, fibre radius, Curliness of the natural shape) (the
 /// paper's wisp thickness, so that the children stay outside the body) plus the layer offset.
 /// Returns false (with why) for an invalid hairstyle or a scalp on which no root fits.
+/// With explicit masters (Hairstyle::explicit_masters) no root is sampled: master i is the
+/// file's i-th (ExplicitMaster: what it leaves out is taken as above), its Root has the file's
+/// position and frame, the head coordinates of the position, the outward normal from the head
+/// centre, and root_summary counts the file's masters with disk_radius sqrt(packing A / N).
 bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string* why);
 
 /// What grooming did.

@@ -107,13 +107,28 @@ bool Hairstyle::IsValid(std::string* why) const {
   if (!solver.IsValid(&reason)) return Fail(why, "solver: " + reason);
   if (!gravity.allFinite()) return Fail(why, "gravity: expected 3 finite numbers (m/s^2)");
   // Limits on the products that drive work and memory (docs/robustness.md), from the requested
-  // master count (an upper bound of the masters placed), before any root is sampled.
-  if (!CheckMethodSegments(segments, solver.method, &reason)) {
+  // master count (an upper bound of the masters placed), before any root is sampled; with
+  // explicit masters, from the file's masters and their segments.
+  double masters = roots.count;
+  double total_segments = masters * segments;
+  if (explicit_masters) {
+    const std::vector<ExplicitMaster>& given = explicit_masters->masters;
+    if (given.empty()) return Fail(why, "masters.file: expected at least one master");
+    masters = static_cast<double>(given.size());
+    total_segments = 0.0;
+    for (size_t i = 0; i < given.size(); ++i) {
+      const int n = static_cast<int>(given[i].segment_lengths.size());
+      total_segments += n;
+      if (!CheckMethodSegments(n, solver.method, &reason)) {
+        return Fail(why, "masters.file: master " + std::to_string(i) + ": " + reason +
+                             " (solver.method)");
+      }
+    }
+  } else if (!CheckMethodSegments(segments, solver.method, &reason)) {
     return Fail(why, "masters.segments: " + reason + " (solver.method)");
   }
-  const double masters = roots.count;
   const double solved_per_master = solve_children ? 1.0 + wisps.strands_per_wisp : 1.0;
-  const double solved_segments = masters * solved_per_master * segments;
+  const double solved_segments = solved_per_master * total_segments;
   if (solved_segments > static_cast<double>(kMaxTotalSegments)) {
     return Fail(why, std::string(solve_children ? "masters.count x (1 + wisps.strands_per_wisp)"
                                                 : "masters.count") +
@@ -132,9 +147,114 @@ bool Hairstyle::IsValid(std::string* why) const {
   return true;
 }
 
+namespace {
+
+// The head frame of a scalp (sphere or mesh).
+const HeadFrame& ScalpHead(const Hairstyle& style) {
+  return std::visit([](const auto& s) -> const HeadFrame& { return s.head; }, style.scalp);
+}
+
+// The wisp thickness r_w of a master (section 3.1) from its strand count and the curliness of its
+// natural (gravity-free) shape, sqrt((L/d)^2 - 1) with d its end-to-end distance: tan(alpha) for
+// a helix of whole turns, and ~0 for the nearly straight planar arcs of straight hair, which
+// HelixCurliness (kappa/|tau|) would count as infinitely curly.
+double MasterWispRadius(const Hairstyle& style, const StrandModel& m) {
+  if (style.wisps.wisp_radius > 0.0) return style.wisps.wisp_radius;
+  return WispRadius(style.wisps.strands_per_wisp, m.section.MeanRadius(),
+                    Curliness(SampleFramedCentreline(m, m.NaturalCurvatures(), 1)),
+                    style.wisps.packing_fraction);
+}
+
+// BuildMasters for explicit masters: the file's models, with what they leave out taken as for a
+// sampled master of the same index.
+bool BuildExplicitMasters(const Hairstyle& style, HairstyleMasters* out, std::string* why) {
+  const std::vector<ExplicitMaster>& given = style.explicit_masters->masters;
+  const int n = static_cast<int>(given.size());
+  const HeadFrame& head = ScalpHead(style);
+  out->roots.resize(n);
+  out->models.resize(n);
+  out->layers.resize(n);
+  out->wisp_radii.resize(n);
+  out->contact_radii.resize(n);
+  out->start_curvatures.resize(n);
+  double max_polar = 0.0;
+  for (int i = 0; i < n; ++i) {
+    Root& root = out->roots[i];
+    root.position = given[i].root_position;
+    root.frame = given[i].root_frame;
+    const Vec3 outward = root.position - head.centre;
+    root.normal = outward.norm() > 0.0 ? Vec3(outward.normalized()) : root.frame.col(2);
+    root.head = ComputeHeadCoordinates(head, root.position);
+    max_polar = std::max(max_polar, root.head.polar_angle);
+  }
+  double radius_sum = 0.0;
+  std::string reason;
+  for (int i = 0; i < n; ++i) {
+    const ExplicitMaster& e = given[i];
+    const std::string name = "masters.file: master " + std::to_string(i) + ": ";
+    const StrandParameters p = SampleStrand(style.hair_type, style.seed, static_cast<uint64_t>(i));
+    StrandModel& m = out->models[i];
+    m.section = e.section ? *e.section : p.section;
+    m.material = e.material ? *e.material : p.material;
+    if (e.natural_curvature) {
+      m.natural_curvature = *e.natural_curvature;
+    } else {
+      m.natural_curvature = p.natural_curvature;
+      m.natural_curvature.x() = -std::abs(m.natural_curvature.x());
+    }
+    m.root_position = e.root_position;
+    m.root_frame = e.root_frame;
+    m.gravity = style.gravity;
+    m.segment_lengths = e.segment_lengths;
+    // The wisp thickness from the natural curl (not the rest shape, which for an inverted master
+    // is bent against gravity and contact: the look of the wisp is the hair type's).
+    const double r_w = e.wisp_radius ? *e.wisp_radius : MasterWispRadius(style, m);
+    m.rest_curvatures = e.rest_curvatures;
+    if (e.layer && (*e.layer < 0 || *e.layer >= style.layers.count)) {
+      return Fail(why, name + "layer: expected 0 to layers.count - 1 = " +
+                           std::to_string(style.layers.count - 1) + ", got " +
+                           std::to_string(*e.layer));
+    }
+    out->layers[i] =
+        e.layer ? *e.layer : HullLayerOf(style.layers, out->roots[i].head.polar_angle, max_polar);
+    out->wisp_radii[i] = r_w;
+    radius_sum += r_w;
+    out->contact_radii[i] = e.clearance ? *e.clearance : r_w * std::max(1.0, style.wisps.tip_scale);
+    m.contact.obstacle = style.body;
+    m.contact.clearance = out->contact_radii[i] + out->layers[i] * style.layers.thickness;
+    m.contact.stiffness = style.contact_stiffness;
+    m.contact.samples_per_segment = style.contact_samples;
+    if (!IsValid(m, &reason)) return Fail(why, name + reason);
+    if (e.start_curvatures.size() != 0 && e.start_curvatures.size() != 3 * m.NumSegments()) {
+      return Fail(why, name + "curvatures: expected one triple per segment");
+    }
+    out->start_curvatures[i] = e.start_curvatures;
+  }
+  // The spacing spread_roots compares the wisp radii with: the Poisson-disk radius that N roots
+  // sampled on this scalp with roots.packing would have, sqrt(packing A / N) (scalp.h).
+  RootSamplingSummary& summary = out->root_summary;
+  summary.requested = summary.achieved = n;
+  summary.area = std::visit([](const auto& s) { return ScalpArea(s); }, style.scalp);
+  summary.disk_radius = std::sqrt(style.roots.packing * summary.area / n);
+  summary.message = std::to_string(n) + " masters from " + style.explicit_masters->file;
+  out->wisp_options = style.wisps;
+  if (style.spread_roots && radius_sum > 0.0) {
+    out->wisp_options.root_scale =
+        std::max(style.wisps.root_scale, summary.disk_radius / (radius_sum / n));
+  }
+  return true;
+}
+
+}  // namespace
+
 bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string* why) {
   if (!style.IsValid(why)) return false;
   HairstyleMasters out;
+  if (style.explicit_masters) {
+    if (!BuildExplicitMasters(style, &out, why)) return false;
+    *masters = std::move(out);
+    return true;
+  }
   std::string reason;
   const bool sampled = std::visit(
       [&](const auto& s) {
@@ -151,6 +271,7 @@ bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string
   out.models.resize(n);
   out.layers.resize(n);
   out.wisp_radii.resize(n);
+  out.contact_radii.resize(n);
   double radius_sum = 0.0;
   for (int i = 0; i < n; ++i) {
     const Root& root = out.roots[i];
@@ -171,22 +292,14 @@ bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string
         style.grading > 0.0 ? style.grading : RecommendedGradingRatio(m.GravityParameter());
     m.segment_lengths = GradedSegments(length, style.segments, ratio);
 
-    // The wisp thickness (section 3.1) from its strand count and the curliness of the natural
-    // (gravity-free) shape, sqrt((L/d)^2 - 1) with d its end-to-end distance: tan(alpha) for a
-    // helix of whole turns, and ~0 for the nearly straight planar arcs of straight hair, which
-    // HelixCurliness (kappa/|tau|) would count as infinitely curly.
-    const double r_w =
-        style.wisps.wisp_radius > 0.0
-            ? style.wisps.wisp_radius
-            : WispRadius(style.wisps.strands_per_wisp, p.section.MeanRadius(),
-                         Curliness(SampleFramedCentreline(m, m.NaturalCurvatures(), 1)),
-                         style.wisps.packing_fraction);
+    // The wisp thickness (section 3.1): MasterWispRadius.
+    const double r_w = MasterWispRadius(style, m);
     out.wisp_radii[i] = r_w;
     radius_sum += r_w;
     out.layers[i] = HullLayerOf(style.layers, root.head.polar_angle, max_polar);
+    out.contact_radii[i] = r_w * std::max(1.0, style.wisps.tip_scale);
     m.contact.obstacle = style.body;
-    m.contact.clearance = r_w * std::max(1.0, style.wisps.tip_scale) +
-                          out.layers[i] * style.layers.thickness;
+    m.contact.clearance = out.contact_radii[i] + out.layers[i] * style.layers.thickness;
     m.contact.stiffness = style.contact_stiffness;
     m.contact.samples_per_segment = style.contact_samples;
     if (!IsValid(m, &reason)) {
@@ -425,7 +538,9 @@ bool GroomHairstyle(const Hairstyle& style, const BatchOptions& batch, Groom* gr
   if (!BuildMasters(style, &g.masters, why)) return false;
 
   auto start = std::chrono::steady_clock::now();
-  g.solutions = SolveStrands(g.masters.models, style.solver, batch);
+  g.solutions = SolveStrands(g.masters.models, style.solver, batch,
+                             g.masters.start_curvatures.empty() ? nullptr
+                                                                : &g.masters.start_curvatures);
   g.summary.solve_seconds = SecondsSince(start);
   if (Cancelled(batch)) return Fail(why, "cancelled");
 

@@ -213,8 +213,12 @@ double MasterClearance(const StyledHair& state, int master) {
   const double thickness = IsWet(state, master)
                                ? style.layers.thickness * state.wet_options.layer_factor
                                : style.layers.thickness;
-  return state.masters.wisp_radii[master] * std::max(1.0, style.wisps.tip_scale) +
-         state.masters.layers[master] * thickness;
+  // contact_radii may be empty in a HairstyleMasters made by hand: r_w max(1, tip_scale).
+  const std::vector<double>& radii = state.masters.contact_radii;
+  const double base = radii.size() == state.masters.models.size()
+                          ? radii[master]
+                          : state.masters.wisp_radii[master] * std::max(1.0, style.wisps.tip_scale);
+  return base + state.masters.layers[master] * thickness;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -282,6 +286,12 @@ bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection&
       const CrossSection& dry = IsWet(*state, i) ? state->dry.sections[i] : m.section;
       state->masters.wisp_radii[i] = WispRadius(wisps.strands_per_wisp, dry.MeanRadius(),
                                                 HelixCurliness(natural), wisps.packing_fraction);
+    }
+    // The new shape's clearance, r_w max(1, tip_scale) as BuildMasters gives it (an explicit
+    // master's own clearance belonged to its old shape).
+    if (state->masters.contact_radii.size() == state->masters.models.size()) {
+      state->masters.contact_radii[i] =
+          state->masters.wisp_radii[i] * std::max(1.0, wisps.tip_scale);
     }
     m.contact.clearance = MasterClearance(*state, i);
     which.push_back(i);

@@ -13,6 +13,7 @@
 #include "io/json_reader.h"
 #include "ringlet/atomic_file.h"
 #include "ringlet/body_json.h"
+#include "ringlet/masters_json.h"
 
 namespace ringlet {
 namespace {
@@ -158,15 +159,50 @@ bool ParseScalp(Reader& reader, const json& document, const Body& body, Hairstyl
   return true;
 }
 
-bool ParseMasters(Reader& reader, const json& document, Hairstyle* style) {
+// "masters": {"file": "masters.json"}: explicit masters (docs/hairstyle-format.md, "Explicit
+// masters"). The keys that would sample them are refused with it, here and at the top level.
+bool ParseMastersFile(Reader& reader, const json& document, const json& masters,
+                      const std::string& base, Hairstyle* style) {
+  const auto file = masters.find("file");
+  if (!file->is_string() || file->get<std::string>().empty()) {
+    return reader.Expected("masters.file", "the name of a masters file (JSON)", *file);
+  }
+  const char* why_not = "not with masters.file (the masters file gives the masters' roots, "
+                        "frames and segments)";
+  for (const char* key : {"count", "seed", "segments", "grading"}) {
+    if (masters.contains(key)) return reader.Fail(Member("masters", key), why_not);
+  }
+  if (document.contains("comb")) return reader.Fail("comb", why_not);
+  const auto hair = document.find("hair");
+  if (hair != document.end() && hair->is_object() && hair->contains("length")) {
+    return reader.Fail("hair.length", why_not);
+  }
+  auto explicit_masters = std::make_shared<ExplicitMasters>();
+  explicit_masters->file = file->get<std::string>();
+  std::filesystem::path path(explicit_masters->file);
+  if (path.is_relative()) path = std::filesystem::path(base) / path;
+  std::string error;
+  if (!LoadMastersFile(path.string(), &explicit_masters->masters, &error)) {
+    return reader.Fail("masters.file", error);
+  }
+  style->explicit_masters = std::move(explicit_masters);
+  return true;
+}
+
+bool ParseMasters(Reader& reader, const json& document, const std::string& base,
+                  Hairstyle* style) {
   const json* masters = nullptr;
   if (!OptionalObject(reader, document, "", "masters", &masters)) return false;
   if (!masters) return true;
   const std::string path = "masters";
+  if (masters->contains("file") &&
+      !ParseMastersFile(reader, document, *masters, base, style)) {
+    return false;
+  }
   if (!reader.CheckFields(*masters, path,
                           {"count", "seed", "segments", "grading", "points_per_segment",
-                           "packing"}) ||
-      !reader.ReadInteger(*masters, path, "count", 1, 1000000, &style->roots.count) ||
+                           "packing", "file"}) ||
+      !reader.ReadInteger(*masters, path, "count", 1, kMaxMasters, &style->roots.count) ||
       !ReadSeed(reader, *masters, path, "seed", &style->roots.seed) ||
       !reader.ReadInteger(*masters, path, "segments", 1, 10000, &style->segments) ||
       !reader.ReadInteger(*masters, path, "points_per_segment", 1, 64,
@@ -630,7 +666,7 @@ bool ParseHairstyleDocument(Reader& reader, const json& document, const std::str
   std::shared_ptr<const Body> body;
   if (!ParseBodyMember(reader, document, base, &body)) return false;
   style.body = body;
-  if (!ParseScalp(reader, document, *body, &style) || !ParseMasters(reader, document, &style) ||
+  if (!ParseScalp(reader, document, *body, &style) || !ParseMasters(reader, document, base, &style) ||
       !ParseComb(reader, document, &style) || !ParseHair(reader, document, &style) ||
       !ParseWisps(reader, document, &style) || !ParseLayersAndContact(reader, document, &style) ||
       !internal::ParseSolverObject(reader, document, "", &style.solver) ||
