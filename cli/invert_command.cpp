@@ -206,7 +206,7 @@ int RunInvert(const InvertArgs& args) {
 
   // Outputs, encoded before anything is written.
   HairCurves equilibrium, naive;
-  int unstable = 0, unconverged = 0, supported = 0;
+  int unstable = 0, unconverged = 0, supported = 0, fallbacks = 0;
   double support_force = 0.0;
   double max_fit = 0.0, max_fit_l = 0.0, sum_fit2 = 0.0, max_dev = 0.0, max_dev_l = 0.0,
          max_naive = 0.0, max_naive_l = 0.0;
@@ -226,6 +226,7 @@ int RunInvert(const InvertArgs& args) {
     max_naive = std::max(max_naive, r.naive_deviation);
     max_naive_l = std::max(max_naive_l, r.naive_deviation / length);
     supported += r.supported_samples;  // contact forces as unknowns (docs/inverse.md)
+    fallbacks += r.support_fallback ? 1 : 0;
     support_force += r.support_force;
     for (auto [curves, q] : {std::pair{&equilibrium, &r.equilibrium},
                              std::pair{&naive, &r.naive_equilibrium}}) {
@@ -245,6 +246,7 @@ int RunInvert(const InvertArgs& args) {
                           {"kirchhoff_residual", r.kirchhoff_residual},
                           {"supported_samples", r.supported_samples},
                           {"support_force", r.support_force},
+                          {"support_fallback", r.support_fallback},
                           {"rest_energy", r.rest_energy},
                           {"rest_energy_unsupported", r.rest_energy_unsupported},
                           {"deviation", r.deviation},
@@ -266,6 +268,7 @@ int RunInvert(const InvertArgs& args) {
       {"naive_max_deviation_per_length", max_naive_l},
       {"supported_samples", supported},
       {"support_force", support_force},
+      {"support_fallbacks", fallbacks},
       {"fit_seconds", fit_seconds},
       {"invert_seconds", invert_seconds},
       {"strand_results", std::move(per_strand)},

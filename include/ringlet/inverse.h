@@ -99,6 +99,11 @@ struct InverseResult {
   std::vector<SupportSample> supports;
   int supported_samples = 0;
   double support_force = 0.0;
+  /// True when the target was not certified stable with the chosen support forces but was with
+  /// the model's own penalty forces (contact_forces off), whose rest shape is then reported
+  /// instead (no support offsets, forces 0): a support at f = 0 has no penalty stiffness, and
+  /// a force f on a convex part of the body of radius R has the tangential stiffness -f/R.
+  bool support_fallback = false;
   /// Lawson-Hanson iterations (-1: it did not terminate; reported in message).
   int nnls_iterations = 0;
   /// The elastic energy that bends the natural shape into the rest shape,
