@@ -97,14 +97,13 @@ def main():
         else:
             largest = max(x.max() for x in distance)
             mean = np.mean(np.concatenate([x[::4] for x in distance]))
-            label = (f"{title}\noff the target: largest {100 * largest:.2g} cm, "
-                     f"mean {100 * mean:.2g} cm")
+            label = f"{title}\noff by {100 * largest:.2g} cm max, {100 * mean:.2g} cm mean"
         axes[0][column].set_title(label, fontsize=8)
     bar = figure.colorbar(plt.cm.ScalarMappable(cmap=colour_map,
                                                 norm=plt.Normalize(0.0, args.scale * 100)),
                           cax=figure.add_axes([0.88, 0.25, 0.02, 0.5]))
     bar.set_label("distance from the target (cm)")
-    save_png(figure, args.output, args.dpi, 64)
+    save_png(figure, args.output, args.dpi, 256)  # 256: the colour scale stays readable
     print(f"wrote {args.output} ({os.path.getsize(args.output) // 1024} KB)")
 
 
