@@ -13,6 +13,7 @@
 
 #include "reference/greenhill.h"
 #include "ringlet/contact.h"
+#include "ringlet/energy.h"
 #include "ringlet/helix.h"
 #include "ringlet/kirchhoff.h"
 #include "ringlet/obstacle.h"
@@ -225,6 +226,40 @@ TEST(PointForceGradient, MatchesFiniteDifferencesOfTheWork) {
       EXPECT_NEAR(gradient(k), fd, 1e-7 * gradient.norm()) << segment << " " << k;
     }
   }
+}
+
+// ContactModel::support_offsets: the contact energy's gradient with per-sample clearances
+// against central differences of the energy (a curly strand pressed into a sphere, offsets of
+// both signs), so the forward model and the inversion's closed form agree on them; and a wrong
+// count is a one-line error naming the field.
+TEST(SupportOffsets, GradientMatchesFiniteDifferencesAndSizeIsChecked) {
+  const int n = 6;
+  StrandModel m = MakeStrand(0.12, n, 0.0, Vec3(20.0, 0.0, 5.0), HorizontalFrame());
+  m.root_position = Vec3(0, 0, 0.1);
+  m.contact.obstacle = std::make_shared<SphereObstacle>(Vec3(0.03, 0, 0.085), 0.02);
+  m.contact.clearance = 0.002;
+  const int samples = n * m.contact.samples_per_segment;
+  for (int j = 0; j < samples; ++j) m.contact.support_offsets.push_back(0.001 * ((j % 5) - 2));
+  std::string why;
+  ASSERT_TRUE(IsValid(m, &why)) << why;
+  const VecX q = m.NaturalCurvatures() + RandomCurvatures(n, 3.0, 9);
+  VecX gradient;
+  EnergyTerms terms;
+  StrandEnergy(m).Evaluate(q, &gradient, &terms);
+  ASSERT_GT(terms.contact, 0.0);  // anti-vacuity: samples are inside their layers
+  StrandModel plain = m;
+  plain.contact.support_offsets.clear();
+  EnergyTerms plain_terms;
+  StrandEnergy(plain).Evaluate(q, nullptr, &plain_terms);
+  EXPECT_NE(terms.contact, plain_terms.contact);  // the offsets change the penalty
+  const auto energy = [&](const VecX& c) { return StrandEnergy(m).Evaluate(c, nullptr); };
+  for (int k = 0; k < 3 * n; ++k) {
+    EXPECT_NEAR(gradient(k), testing::CentralDifference(energy, q, k, 1e-7),
+                1e-6 * gradient.norm()) << k;
+  }
+  m.contact.support_offsets.pop_back();
+  EXPECT_FALSE(IsValid(m, &why));
+  EXPECT_NE(why.find("support offsets"), std::string::npos) << why;
 }
 
 // Lawson-Hanson against brute force: the NNLS minimum is the best of the unconstrained least
