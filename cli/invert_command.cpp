@@ -53,6 +53,7 @@ struct InvertArgs {
   std::string up = "z";
   double clearance = 0.0;
   int threads = 0;
+  bool no_support_forces = false;  // contact forces as unknowns off (docs/inverse.md)
   bool force = false;
   bool quiet = false;
 };
@@ -256,13 +257,16 @@ int RunInvert(const InvertArgs& args) {
   }
 
   const auto invert_start = std::chrono::steady_clock::now();
+  InverseOptions inverse_options;
+  inverse_options.contact_forces = !args.no_support_forces;
   const std::vector<InverseResult> results =
-      InvertStrands(models, targets, InverseOptions{}, args.threads);
+      InvertStrands(models, targets, inverse_options, args.threads);
   const double invert_seconds = SecondsSince(invert_start);
 
   // Outputs, encoded before anything is written.
   HairCurves equilibrium, naive;
-  int unstable = 0, unconverged = 0;
+  int unstable = 0, unconverged = 0, supported = 0, fallbacks = 0;
+  double support_force = 0.0;
   double max_fit = 0.0, max_fit_l = 0.0, sum_fit2 = 0.0, max_dev = 0.0, max_dev_l = 0.0,
          max_naive = 0.0, max_naive_l = 0.0;
   nlohmann::ordered_json per_strand = nlohmann::ordered_json::array();
@@ -280,6 +284,9 @@ int RunInvert(const InvertArgs& args) {
     max_dev_l = std::max(max_dev_l, r.deviation / length);
     max_naive = std::max(max_naive, r.naive_deviation);
     max_naive_l = std::max(max_naive_l, r.naive_deviation / length);
+    supported += r.supported_samples;  // contact forces as unknowns (docs/inverse.md)
+    fallbacks += r.support_fallback ? 1 : 0;
+    support_force += r.support_force;
     for (auto [curves, q] : {std::pair{&equilibrium, &r.equilibrium},
                              std::pair{&naive, &r.naive_equilibrium}}) {
       const std::vector<Vec3> points = SampleCentreline(models[i], *q, 4);
@@ -296,6 +303,11 @@ int RunInvert(const InvertArgs& args) {
                           {"stable", r.stable},
                           {"min_hessian_eigenvalue", r.min_eigenvalue},
                           {"kirchhoff_residual", r.kirchhoff_residual},
+                          {"supported_samples", r.supported_samples},
+                          {"support_force", r.support_force},
+                          {"support_fallback", r.support_fallback},
+                          {"rest_energy", r.rest_energy},
+                          {"rest_energy_unsupported", r.rest_energy_unsupported},
                           {"deviation", r.deviation},
                           {"naive_deviation", r.naive_deviation},
                           {"forward_termination", TerminationName(r.forward.termination)},
@@ -313,11 +325,18 @@ int RunInvert(const InvertArgs& args) {
       {"max_deviation_per_length", max_dev_l},
       {"naive_max_deviation", max_naive},
       {"naive_max_deviation_per_length", max_naive_l},
+      {"supported_samples", supported},
+      {"support_force", support_force},
+      {"support_fallbacks", fallbacks},
       {"fit_seconds", fit_seconds},
       {"invert_seconds", invert_seconds},
       {"strand_results", std::move(per_strand)},
       {"units",
        {{"distances", "m (and per_length: units of each strand's length L)"},
+        {"rest_energy", "J: elastic energy bending the hair type's natural shape into the "
+                        "rest shape, what the support forces minimize (_unsupported: without them)"},
+        {"support_force", "N: total normal force of the body on the contact samples that carry one "
+                          "(supported_samples), chosen by the inversion"},
         {"deviation",
          "largest distance from the target of the forward equilibrium from the inverted rest "
          "shape (naive_: from the rest shape = target)"}}}};
@@ -391,6 +410,9 @@ Command AddInvertCommand(CLI::App* parent) {
   app->add_option("--units-per-metre", args->units_per_metre,
                   "Length unit of .hair files per metre (default 1; 100: cm)");
   app->add_option("--up", args->up, "Up axis of the target file: z (default) or y");
+  app->add_flag("--no-support-forces", args->no_support_forces,
+                "Do not treat the body's contact forces as unknowns: use the penalty forces the "
+                "forward model gives at the target (zero unless it enters the clearance layer)");
   app->add_flag("--force", args->force, "Overwrite existing output files");
   app->add_option("--threads", args->threads, "Worker threads (default 0: all cores)")
       ->check(CLI::Range(0, 1024));

@@ -7,9 +7,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
+#include <random>
 
 #include "reference/greenhill.h"
+#include "ringlet/contact.h"
+#include "ringlet/energy.h"
+#include "ringlet/helix.h"
 #include "ringlet/kirchhoff.h"
 #include "ringlet/obstacle.h"
 #include "ringlet/strand_geometry.h"
@@ -117,8 +122,9 @@ TEST(InvertStrand, CurlyHangingTargetsHoldOrAreReportedUnstable) {
 }
 
 // With body contact: the target is the equilibrium of a known rest shape draped on a sphere
-// (ringlet's own groom, contact forces included). The inversion recovers that rest shape, to the
-// forward solve's tolerance, and the target holds.
+// (ringlet's own groom, contact forces included). With the penalty forces of the model at the
+// target (contact forces not unknowns), the inversion recovers that rest shape, to the forward
+// solve's tolerance, and the target holds.
 TEST(InvertStrand, RoundTripWithContactRecoversTheRestShape) {
   for (unsigned seed : {5u, 6u}) {
     const int n = 16;
@@ -133,8 +139,12 @@ TEST(InvertStrand, RoundTripWithContactRecoversTheRestShape) {
     ASSERT_TRUE(groom.summary.Converged()) << groom.summary.message;
     ASSERT_GT(groom.summary.contact.samples_in_contact, 0);  // it does rest on the sphere
 
-    const InverseResult r = InvertStrand(m, groom.curvatures);
+    InverseOptions penalty_only;  // the model's penalty forces at the target, not unknowns
+    penalty_only.contact_forces = false;
+    const InverseResult r = InvertStrand(m, groom.curvatures, penalty_only);
     SCOPED_TRACE(r.message);
+    EXPECT_TRUE(r.supports.empty());
+    EXPECT_TRUE(r.support_offsets.empty());
     const double scale = m.rest_curvatures.cwiseAbs().maxCoeff();
     EXPECT_LE((r.rest_curvatures - m.rest_curvatures).cwiseAbs().maxCoeff(), 1e-7 * scale);
     EXPECT_TRUE(r.stable);
@@ -176,6 +186,272 @@ TEST(InvertStrand, GreenhillBelowAndAboveTheCriticalLoad) {
       EXPECT_GT(r.deviation, 0.05 * m.Length());
       EXPECT_NE(r.message.find("UNSTABLE"), std::string::npos);
     }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Contact forces as unknowns.
+
+// The elastic energy 1/2 sum_i l_i (q0_i - q0nat)^T K (q0_i - q0nat) of a rest shape, written
+// here from its definition (inverse.h, InverseResult::rest_energy).
+double RestEnergyOf(const StrandModel& m, const VecX& rest) {
+  double e = 0.0;
+  for (int i = 0; i < m.NumSegments(); ++i) {
+    const Vec3 d = rest.segment<3>(3 * i) - m.natural_curvature;
+    e += 0.5 * m.segment_lengths[i] * d.dot(m.Stiffness().cwiseProduct(d));
+  }
+  return e;
+}
+
+// PointForceGradient against central differences of -F . x(q), with x(q) the sample position
+// from the public geometry (ComputeGeometry and HelixChord), for a curly strand, samples inside
+// and at the end of segments.
+TEST(PointForceGradient, MatchesFiniteDifferencesOfTheWork) {
+  const int n = 7;
+  StrandModel m = MakeStrand(0.2, n, 0.3, Vec3(25.0, -10.0, 8.0), RandomRotation(3));
+  const VecX q = m.NaturalCurvatures() + RandomCurvatures(n, 10.0, 4);
+  const Vec3 force(0.3, -1.2, 0.7);
+  for (auto [segment, fraction] : {std::pair{0, 0.25}, std::pair{3, 0.5}, std::pair{6, 1.0}}) {
+    const double u = fraction * m.segment_lengths[segment];
+    const auto work = [&](const VecX& c) {
+      const StrandGeometry g = ComputeGeometry(m, c);
+      const Vec3 x = g.points[segment] +
+                     g.frames[segment] * HelixChord(c.segment<3>(3 * segment), u);
+      return -force.dot(x);
+    };
+    const VecX gradient = PointForceGradient(m, q, segment, u, force);
+    ASSERT_GT(gradient.norm(), 1e-6);  // anti-vacuity (a 1-N force moves ~l^2 per 1/m)
+    for (int k = 0; k < 3 * n; ++k) {
+      const double fd = testing::CentralDifference(work, q, k, 1e-6);
+      EXPECT_NEAR(gradient(k), fd, 1e-7 * gradient.norm()) << segment << " " << k;
+    }
+  }
+}
+
+// ContactModel::support_offsets: the contact energy's gradient with per-sample clearances
+// against central differences of the energy (a curly strand pressed into a sphere, offsets of
+// both signs), so the forward model and the inversion's closed form agree on them; and a wrong
+// count is a one-line error naming the field.
+TEST(SupportOffsets, GradientMatchesFiniteDifferencesAndSizeIsChecked) {
+  const int n = 6;
+  StrandModel m = MakeStrand(0.12, n, 0.0, Vec3(20.0, 0.0, 5.0), HorizontalFrame());
+  m.root_position = Vec3(0, 0, 0.1);
+  m.contact.obstacle = std::make_shared<SphereObstacle>(Vec3(0.03, 0, 0.085), 0.02);
+  m.contact.clearance = 0.002;
+  const int samples = n * m.contact.samples_per_segment;
+  for (int j = 0; j < samples; ++j) m.contact.support_offsets.push_back(0.001 * ((j % 5) - 2));
+  std::string why;
+  ASSERT_TRUE(IsValid(m, &why)) << why;
+  const VecX q = m.NaturalCurvatures() + RandomCurvatures(n, 3.0, 9);
+  VecX gradient;
+  EnergyTerms terms;
+  StrandEnergy(m).Evaluate(q, &gradient, &terms);
+  ASSERT_GT(terms.contact, 0.0);  // anti-vacuity: samples are inside their layers
+  StrandModel plain = m;
+  plain.contact.support_offsets.clear();
+  EnergyTerms plain_terms;
+  StrandEnergy(plain).Evaluate(q, nullptr, &plain_terms);
+  EXPECT_NE(terms.contact, plain_terms.contact);  // the offsets change the penalty
+  const auto energy = [&](const VecX& c) { return StrandEnergy(m).Evaluate(c, nullptr); };
+  for (int k = 0; k < 3 * n; ++k) {
+    EXPECT_NEAR(gradient(k), testing::CentralDifference(energy, q, k, 1e-7),
+                1e-6 * gradient.norm()) << k;
+  }
+  m.contact.support_offsets.pop_back();
+  EXPECT_FALSE(IsValid(m, &why));
+  EXPECT_NE(why.find("support offsets"), std::string::npos) << why;
+}
+
+// Lawson-Hanson against brute force: the NNLS minimum is the best of the unconstrained least
+// squares solutions on every subset of the columns that are feasible (x >= 0), enumerated here
+// (2^6 subsets), for random 9x6 problems; and the KKT conditions hold.
+TEST(NonNegativeLeastSquares, MatchesEnumerationOfActiveSetsAndKkt) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  int constrained = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const int rows = 9, cols = 6;
+    MatX a(rows, cols);
+    VecX b(rows);
+    for (int i = 0; i < rows; ++i) {
+      for (int j = 0; j < cols; ++j) a(i, j) = normal(rng) * (j == 2 ? 1e3 : 1.0);  // scaling
+      b(i) = normal(rng);
+    }
+    VecX x;
+    const int iterations = NonNegativeLeastSquares(a, b, &x);
+    ASSERT_GE(iterations, 0);
+    double best = (b).squaredNorm();  // the empty subset: x = 0
+    for (int mask = 1; mask < (1 << cols); ++mask) {
+      std::vector<int> set;
+      for (int j = 0; j < cols; ++j) {
+        if (mask & (1 << j)) set.push_back(j);
+      }
+      MatX sub(rows, static_cast<int>(set.size()));
+      for (size_t k = 0; k < set.size(); ++k) sub.col(static_cast<int>(k)) = a.col(set[k]);
+      const VecX z = sub.householderQr().solve(b);
+      if (z.minCoeff() < 0.0) continue;
+      best = std::min(best, (sub * z - b).squaredNorm());
+    }
+    const double objective = (a * x - b).squaredNorm();
+    EXPECT_NEAR(objective, best, 1e-10 * b.squaredNorm()) << trial;
+    // KKT: x >= 0, w = A^T (b - A x) <= 0 where x = 0 and = 0 where x > 0 (column-scaled).
+    const VecX w = a.transpose() * (b - a * x);
+    for (int j = 0; j < cols; ++j) {
+      const double scale = a.col(j).norm() * b.norm();
+      EXPECT_GE(x(j), 0.0);
+      if (x(j) > 0.0) {
+        EXPECT_NEAR(w(j), 0.0, 1e-10 * scale) << trial << " " << j;
+      } else {
+        EXPECT_LE(w(j), 1e-10 * scale) << trial << " " << j;
+        ++constrained;
+      }
+    }
+  }
+  EXPECT_GT(constrained, 10);  // anti-vacuity: the bound is active in many of them
+}
+
+// A heavy straight rod clamped horizontally with its tip resting on a sphere (a propped
+// cantilever): the target q = 0 lies on the sphere at the tip only. With a straight natural
+// shape the support force f minimizes sum_i l_i EI (a_i - f c_i)^2, the complementary energy
+// int M^2/(2EI) ds discretized (Menabrea's theorem), where, averaged over segment i,
+//   a_i = w ((L - s_i)^3 - (L - s_(i+1))^3) / (6 EI l_i)  (the weight's moment / EI, as above),
+//   c_i = ((L - s_i)^2 - (L - s_(i+1))^2) / (2 EI l_i)     (a unit tip force's moment / EI),
+// so f = sum l_i a_i c_i / sum l_i c_i^2, which tends to the propped cantilever's reaction
+// 3 w L / 8 (beam tables; 8.4e-4 relative below it at n = 10, computed from the sums above).
+// The rest curvature is a_i - f c_i, the forward penalty carries exactly f at the target, and
+// the forward solve holds the target. The support is a sphere of radius 1 m (nearly flat): on a
+// small ball the tip would slide off sideways (frictionless contact on a convex surface has the
+// negative tangential stiffness f/R, here above the rod's lateral tip stiffness 3EI/L^3 for
+// R < 2.5 cm), which the certificate rightly reports as unstable.
+TEST(InvertStrand, ProppedCantileverSupportForceFromMomentBalance) {
+  const int n = 10;
+  const double length = 0.1, radius = 1.0;
+  StrandModel m = MakeStrand(length, n, 0.0, Vec3::Zero(), HorizontalFrame());
+  m.root_position = Vec3::Zero();
+  m.contact.obstacle = std::make_shared<SphereObstacle>(Vec3(length, 0, -radius), radius);
+  InverseOptions options;
+  options.support_tolerance = 1e-6;  // 1e-7 m: the next sample lies (L/40)^2 / 2R = 3e-6 m above
+  const InverseResult r = InvertStrand(m, VecX::Zero(3 * n), options);
+  SCOPED_TRACE(r.message);
+  ASSERT_EQ(r.supports.size(), 1u);  // the tip sample only
+  EXPECT_EQ(r.supports[0].segment, n - 1);
+  EXPECT_EQ(r.supported_samples, 1);
+  const double w = m.WeightPerLength().norm();
+  const double ei = m.Stiffness()(1);
+  double sac = 0.0, scc = 0.0, s = 0.0;
+  std::vector<double> a(n), c(n);
+  for (int i = 0; i < n; ++i) {
+    const double l = m.segment_lengths[i];
+    a[i] = w * (std::pow(length - s, 3) - std::pow(length - s - l, 3)) / (6.0 * ei * l);
+    c[i] = (std::pow(length - s, 2) - std::pow(length - s - l, 2)) / (2.0 * ei * l);
+    sac += l * a[i] * c[i];
+    scc += l * c[i] * c[i];
+    s += l;
+  }
+  const double expected = sac / scc;
+  EXPECT_NEAR(r.support_force, expected, 1e-9 * expected);
+  EXPECT_NEAR(r.support_force, 3.0 * w * length / 8.0, 1e-3 * expected);
+  for (int i = 0; i < n; ++i) {
+    EXPECT_NEAR(r.rest_curvatures(3 * i + 1), a[i] - expected * c[i], 1e-9 * a[0]) << i;
+    EXPECT_NEAR(r.rest_curvatures(3 * i), 0.0, 1e-9 * a[0]) << i;
+  }
+  // The forward penalty at the target carries the chosen force (recomputed by contact.h).
+  StrandModel inverted = m;
+  inverted.rest_curvatures = r.rest_curvatures;
+  inverted.contact.support_offsets = r.support_offsets;
+  const std::vector<ContactForce> forces = ComputeContactForces(inverted, VecX::Zero(3 * n));
+  ASSERT_EQ(forces.size(), 1u);
+  EXPECT_NEAR(forces[0].force.z(), expected, 1e-9 * expected);
+  EXPECT_NEAR(forces[0].force.head<2>().norm(), 0.0, 1e-12 * expected);
+  EXPECT_TRUE(r.stable);
+  EXPECT_LE(r.deviation, 1e-6 * length);
+  EXPECT_LT(r.rest_energy, 0.2 * r.rest_energy_unsupported);  // the support carries most
+}
+
+// A strand draped on a sphere (the equilibrium of a known rest shape, ringlet's own groom) with
+// contact forces as unknowns: the forces satisfy the KKT conditions of
+//   J(f) = 1/2 sum l_i (q0_i(f) - q0nat)^T K (q0_i(f) - q0nat),  f >= 0,
+// checked by finite differences of J through the public closed form (InverseRestCurvatures of
+// the model with the support offsets of f, the penalty path, not the NNLS matrix); the rest
+// energy is at most that of the known rest shape (a feasible point: its penalty forces); and the
+// forward solve from the recovered rest shape holds the target.
+TEST(InvertStrand, DrapedOnASphereForcesAreOptimalAndHold) {
+  for (unsigned seed : {5u, 6u}) {
+    const int n = 16;
+    StrandModel m = MakeStrand(0.25, n, 0.0, Vec3(-20.0, 0.0, 5.0), HorizontalFrame());
+    m.root_position = Vec3(0, 0, 0.1);
+    m.contact.obstacle = std::make_shared<SphereObstacle>(Vec3::Zero(), 0.1);
+    m.contact.clearance = 0.002;
+    m.rest_curvatures = m.NaturalCurvatures() + RandomCurvatures(n, 5.0, seed);
+    SolveOptions tight;
+    tight.tolerance = 1e-12;
+    const StrandSolution groom = SolveStrand(m, tight);
+    ASSERT_TRUE(groom.summary.Converged()) << groom.summary.message;
+    // Every penetrating sample is within the support tolerance (the penalty lets this strand
+    // 7.8e-3 L into its layer: the tolerance is raised to 1e-2 L), so the known rest shape with
+    // its penalty forces is a feasible point of the problem.
+    InverseOptions options;
+    options.support_tolerance = 1e-2;
+    ASSERT_GT(groom.summary.contact.samples_in_contact, 0);
+    ASSERT_LT(groom.summary.contact.max_clearance_violation,
+              options.support_tolerance * m.Length());
+
+    const InverseResult r = InvertStrand(m, groom.curvatures, options);
+    SCOPED_TRACE(r.message);
+    ASSERT_GE(r.nnls_iterations, 0);
+    EXPECT_GT(r.supported_samples, 2);
+    EXPECT_LE(r.rest_energy, RestEnergyOf(m, m.rest_curvatures) * (1.0 + 1e-9));
+    EXPECT_NEAR(r.rest_energy, RestEnergyOf(m, r.rest_curvatures), 1e-12 * r.rest_energy);
+    EXPECT_TRUE(r.stable);
+    EXPECT_LE(r.deviation, 1e-6 * m.Length());
+    EXPECT_GT(r.naive_deviation, 0.01 * m.Length());
+
+    // KKT by differences of J(f) (the quadratic of the problem). The penalty cannot pull (f < 0 gives no force), so the
+    // derivative is one-sided, (4 J(f + h) - J(f + 2h) - 3 J(f)) / (2h): exact for a quadratic.
+    const double k = m.ContactStiffness();
+    const int samples = m.contact.samples_per_segment;
+    const auto objective = [&](const VecX& f) {
+      StrandModel with = m;
+      with.contact.support_offsets.assign(static_cast<size_t>(n * samples), 0.0);
+      for (size_t c = 0; c < r.supports.size(); ++c) {
+        const SupportSample& p = r.supports[c];
+        const double weight = m.segment_lengths[p.segment] / samples;
+        with.contact.support_offsets[static_cast<size_t>(p.segment * samples + p.index)] =
+            f(static_cast<int>(c)) / (k * weight) + p.distance;
+      }
+      return RestEnergyOf(m, InverseRestCurvatures(with, groom.curvatures));
+    };
+    VecX f(static_cast<int>(r.supports.size()));
+    for (size_t c = 0; c < r.supports.size(); ++c) f(static_cast<int>(c)) = r.supports[c].force;
+    EXPECT_NEAR(objective(f), r.rest_energy, 1e-9 * r.rest_energy);
+    const double step = 1e-3 * f.maxCoeff();
+    const auto derivative = [&](const VecX& at, int c) {
+      VecX p1 = at, p2 = at;
+      p1(c) += step;
+      p2(c) += 2.0 * step;
+      return (4.0 * objective(p1) - objective(p2) - 3.0 * objective(at)) / (2.0 * step);
+    };
+    // The gradient's scale: J's derivative at f = 0 (where the supports are not yet used).
+    double scale = 0.0;
+    for (int c = 0; c < f.size(); ++c) {
+      scale = std::max(scale, std::abs(derivative(VecX::Zero(f.size()), c)));
+    }
+    ASSERT_GT(scale, 0.0);
+    int active = 0;
+    for (int c = 0; c < f.size(); ++c) {
+      const double d = derivative(f, c);
+      if (f(c) > 0.0) {
+        EXPECT_NEAR(d, 0.0, 1e-6 * scale) << c;
+      } else {
+        EXPECT_GE(d, -1e-6 * scale) << c;
+        ++active;
+      }
+    }
+    std::printf("seed %u: %d of %d supports at f = 0, %d carry %.4g N, rest energy %.4g J "
+                "(known rest shape %.4g J, without supports %.4g J), deviation %.3g L\n",
+                seed, active, static_cast<int>(f.size()), r.supported_samples, r.support_force,
+                r.rest_energy, RestEnergyOf(m, m.rest_curvatures), r.rest_energy_unsupported,
+                r.deviation / m.Length());
   }
 }
 

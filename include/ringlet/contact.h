@@ -10,7 +10,8 @@ namespace ringlet {
 
 /// One penalty force on the strand: at a sample of ContactModel that lies inside the
 /// clearance layer, the force is F = -dE_c/dx = w k x n (N), with w = l_i / m the sample's
-/// weight, x the penetration of the layer and n the outward normal of the obstacle.
+/// weight, x the penetration of the layer (of the sample's ContactModel::SampleClearance) and n
+/// the outward normal of the obstacle.
 struct ContactForce {
   int segment = 0;       ///< segment index
   double u = 0.0;        ///< arc length inside the segment (m)
@@ -30,7 +31,8 @@ struct ContactMeasure {
   double max_penetration = 0.0;
   /// Largest depth into the clearance layer, max(0, clearance - d) (m), same points.
   double max_clearance_violation = 0.0;
-  /// Number of samples inside the clearance layer (those that carry a force).
+  /// Number of samples inside the clearance layer (those that carry a force; with support
+  /// offsets, inside their own SampleClearance).
   int samples_in_contact = 0;
 };
 

@@ -23,6 +23,36 @@ namespace ringlet {
 /// rods). dE_ext/dq is the exact O(n) gradient of energy.h. Returns the 3n-vector q0 (1/m).
 VecX InverseRestCurvatures(const StrandModel& model, const VecX& target);
 
+/// dE/dq (3n, J m) of the potential E(q) = -F . x(q) of a constant force F (N, world) applied at
+/// arc length u (m, 0 < u <= l_segment) inside segment `segment` of configuration q: minus the
+/// generalized force J^T F of the sample, J = dx/dq. One reverse sweep over segments 0..segment
+/// (the same closed-form derivatives as ContactEnergy's gradient, energy.h: HelixChordVjp for the
+/// partial chord, HelixSegmentVjp for the upstream segments); entries after `segment` are 0.
+VecX PointForceGradient(const StrandModel& model, const VecX& curvatures, int segment, double u,
+                        const Vec3& force);
+
+/// Non-negative least squares: x >= 0 minimizing |A x - b|^2, by the active-set method of
+/// Lawson and Hanson ("Solving Least Squares Problems", 1974, ch. 23, algorithm NNLS), the
+/// columns scaled to unit norm, the passive subproblems solved by column-pivoted QR. Columns that
+/// are zero get x_j = 0. Returns the number of outer iterations (each adds one variable to the
+/// passive set), or -1 when it did not terminate within 3 (columns + 1) of them (x is then the
+/// last feasible iterate). On return x satisfies x >= 0 and, at termination, the KKT conditions
+/// A^T (b - A x) <= tol and x_j (A^T (b - A x))_j = 0 to rounding.
+int NonNegativeLeastSquares(const MatX& a, const VecX& b, VecX* x);
+
+/// A contact sample of the target that lies on the clearance surface of the body (within
+/// InverseOptions::support_tolerance) and may carry a normal support force (N >= 0), an unknown
+/// of the inversion (Derouet-Jourdan et al. 2013; docs/inverse.md).
+struct SupportSample {
+  int segment = 0;            ///< segment index i
+  int index = 0;              ///< sample j in the segment, at arc length u = (j + 1) l_i / m
+  double u = 0.0;             ///< arc length inside the segment (m)
+  Vec3 position = Vec3::Zero();  ///< sample position on the target (m, world)
+  Vec3 normal = Vec3::Zero();    ///< outward unit normal of the body there
+  double distance = 0.0;      ///< signed distance to the body minus the clearance (m)
+  double force = 0.0;         ///< normal force on the strand, f n with f >= 0 (N)
+};
+
 /// Options of InvertStrand.
 struct InverseOptions {
   /// Run the forward solve from the inverted rest shape, started at the target, and measure
@@ -31,6 +61,17 @@ struct InverseOptions {
   /// Also run the forward solve with the naive rest shape q0 = target (what an artist's groom
   /// does when physics starts) and measure its sag.
   bool naive = true;
+  /// Contact forces as unknowns (docs/inverse.md): the contact samples of the target that lie
+  /// within support_tolerance of the clearance surface carry non-negative normal forces chosen
+  /// by non-negative least squares so that the rest shape stays closest to the hair type's
+  /// natural curvature, and the forward model reproduces them through
+  /// ContactModel::support_offsets. Off: the penalty forces of the model at the target are used
+  /// (zero unless the target penetrates the clearance layer).
+  bool contact_forces = true;
+  /// A contact sample is a support when |d - clearance| <= support_tolerance L, d its signed
+  /// distance to the body (dimensionless, units of the strand length L; >= 0). Samples deeper
+  /// inside keep the penalty force of the model.
+  double support_tolerance = 1e-3;
   /// Centreline samples per segment for the deviations (>= 1).
   int points_per_segment = 4;
   /// The forward solves. Stability checking stays on: it is what moves an unstable target to
@@ -47,8 +88,29 @@ struct InverseOptions {
 
 /// What InvertStrand found for one strand.
 struct InverseResult {
-  /// The rest shape q0 (3n, 1/m): InverseRestCurvatures.
+  /// The rest shape q0 (3n, 1/m): InverseRestCurvatures of the model with support_offsets.
   VecX rest_curvatures;
+  /// The contact model's support offsets that go with the rest shape (ContactModel::
+  /// support_offsets, m): empty when no sample is a support (or contact_forces is off).
+  /// The rest shape holds the target only with these offsets in the model.
+  std::vector<double> support_offsets;
+  /// The support samples (all candidates, with their forces, some 0) and the count of those
+  /// carrying a force > 0, with the sum of their normal forces (N).
+  std::vector<SupportSample> supports;
+  int supported_samples = 0;
+  double support_force = 0.0;
+  /// True when the target was not certified stable with the chosen support forces but was with
+  /// the model's own penalty forces (contact_forces off), whose rest shape is then reported
+  /// instead (no support offsets, forces 0): a support at f = 0 has no penalty stiffness, and
+  /// a force f on a convex part of the body of radius R has the tangential stiffness -f/R.
+  bool support_fallback = false;
+  /// Lawson-Hanson iterations (-1: it did not terminate; reported in message).
+  int nnls_iterations = 0;
+  /// The elastic energy that bends the natural shape into the rest shape,
+  /// 1/2 sum_i l_i (q0_i - q0nat)^T K (q0_i - q0nat) (J), q0nat = model.natural_curvature: what
+  /// the support forces minimize; and the same without supports (their forces 0).
+  double rest_energy = 0.0;
+  double rest_energy_unsupported = 0.0;
   /// Stability certificate of the target with that rest shape: the exact Hessian at the target
   /// (strand_hessian.h; it does not depend on q0, whose only trace in E is the constant elastic
   /// Hessian l_i K) is positive definite, certified by its O(n) block LDL^T factorization. A

@@ -1,6 +1,7 @@
 // The immutable description of one hair strand: a Kirchhoff rod clamped at its root (paper, section 2).
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,6 +32,26 @@ struct ContactModel {
   double stiffness = 0.0;
   /// Samples per segment m >= 1.
   int samples_per_segment = 4;
+  /// Per-sample shifts of the clearance (m), empty (the default) or one per sample: sample j of
+  /// segment i (at arc length (j + 1) l_i / m) uses the clearance clearance + support_offsets[i m
+  /// + j]. Inverse statics with contact forces as unknowns (inverse.h, docs/inverse.md) sets them
+  /// so that the penalty k x reproduces, at the target, the normal support forces it chose:
+  /// x = f / (k l_i / m). Empty gives bit for bit the model without offsets.
+  std::vector<double> support_offsets;
+
+  /// The clearance of sample j of segment i (m): clearance plus its support offset, if any.
+  double SampleClearance(int segment, int j) const {
+    return support_offsets.empty()
+               ? clearance
+               : clearance + support_offsets[static_cast<size_t>(segment * samples_per_segment + j)];
+  }
+  /// The largest SampleClearance of segment i (m), for the contact broad phase.
+  double SegmentClearance(int segment) const {
+    if (support_offsets.empty()) return clearance;
+    double c = SampleClearance(segment, 0);
+    for (int j = 1; j < samples_per_segment; ++j) c = std::max(c, SampleClearance(segment, j));
+    return c;
+  }
 };
 
 /// One inextensible, unshearable Kirchhoff rod of elliptic section, clamped at its root, divided

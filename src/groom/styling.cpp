@@ -280,6 +280,7 @@ bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection&
     }
     m.natural_curvature = natural;
     m.rest_curvatures.resize(0);
+    m.contact.support_offsets.clear();  // chosen for the dropped rest shape
     // The wisp thickness follows the curliness (BuildMasters), from the dry fibre radius.
     const WispOptions& wisps = state->style.wisps;
     if (wisps.wisp_radius <= 0.0) {
@@ -506,6 +507,9 @@ StrandModel TruncateModel(const StrandModel& model, double arc_length, VecX* cur
   if (model.HasRestShape()) {
     out.rest_curvatures = model.rest_curvatures.head(3 * out.NumSegments());
   }
+  // Support offsets (inverse statics' contact forces, ContactModel) are dropped: the cut strand
+  // no longer carries the loads they were chosen for.
+  out.contact.support_offsets.clear();
   if (curvatures) {
     const VecX q = *curvatures;
     *curvatures = WarmStart(q, q, out.NumSegments());
@@ -730,6 +734,7 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
       // A per-segment rest shape: the lengthened last segment keeps its rest curvatures, new
       // segments get the hair type's natural curvature.
       StrandModel& m = state->masters.models[i];
+      m.contact.support_offsets.clear();  // the grown strand's samples moved (as for cut)
       if (m.HasRestShape()) {
         const Eigen::Index kept = m.rest_curvatures.size();
         m.rest_curvatures.conservativeResize(3 * m.NumSegments());

@@ -5,13 +5,17 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <Eigen/QR>
+
 #include "ringlet/energy.h"
+#include "ringlet/helix.h"
 #include "ringlet/kirchhoff.h"
 #include "ringlet/strand_geometry.h"
 #include "ringlet/strand_hessian.h"
@@ -31,6 +35,10 @@ std::string Number(double x) {
 bool InverseOptions::IsValid(std::string* why) const {
   if (points_per_segment < 1 || points_per_segment > 1024) {
     if (why) *why = "points_per_segment: expected 1 to 1024";
+    return false;
+  }
+  if (!(std::isfinite(support_tolerance) && support_tolerance >= 0.0)) {
+    if (why) *why = "support_tolerance: expected a finite number >= 0 (units of L)";
     return false;
   }
   std::string reason;
@@ -62,6 +70,119 @@ VecX InverseRestCurvatures(const StrandModel& model, const VecX& target) {
   return rest;
 }
 
+VecX PointForceGradient(const StrandModel& model, const VecX& curvatures, int segment, double u,
+                        const Vec3& force) {
+  const int n = model.NumSegments();
+  assert(curvatures.size() == 3 * n && segment >= 0 && segment < n);
+  const StrandGeometry g = ComputeGeometry(model, curvatures);
+  VecX gradient = VecX::Zero(3 * n);
+  // x = r_i + Q_i h(u): dE/dx = -F. The sample's own segment through its partial chord, then
+  // the reverse sweep of energy.cpp with r_bar = dE/dr_(k+1), q_bar = dE/dQ_(k+1).
+  const Vec3 de_dx = -force;
+  const Vec3 omega = curvatures.segment<3>(3 * segment);
+  const HelixFunctions functions = EvaluateHelixFunctions(omega.norm() * u);
+  const Vec3 h = HelixChordFromFunctions(omega, u, functions);
+  const Mat3& q_i = g.frames[static_cast<size_t>(segment)];
+  gradient.segment<3>(3 * segment) = HelixChordVjp(omega, u, functions, q_i.transpose() * de_dx);
+  const Vec3 r_bar = de_dx;  // a force adds to the adjoint of every upstream start point
+  Mat3 q_bar = de_dx * h.transpose();
+  for (int k = segment - 1; k >= 0; --k) {
+    const Vec3 omega_k = curvatures.segment<3>(3 * k);
+    const double l = model.segment_lengths[static_cast<size_t>(k)];
+    const HelixSegment s = EvaluateHelixSegment(omega_k, l);
+    const Mat3& q_k = g.frames[static_cast<size_t>(k)];
+    gradient.segment<3>(3 * k) = HelixSegmentVjp(omega_k, l, s.functions, q_k.transpose() * q_bar,
+                                                 q_k.transpose() * r_bar, Vec3::Zero());
+    q_bar = q_bar * s.rotation.transpose() + r_bar * s.chord.transpose();
+  }
+  return gradient;
+}
+
+int NonNegativeLeastSquares(const MatX& a, const VecX& b, VecX* x) {
+  const Eigen::Index rows = a.rows(), cols = a.cols();
+  assert(b.size() == rows);
+  x->setZero(cols);
+  if (cols == 0) return 0;
+  // Unit columns (zero columns stay out): the tolerance below is then relative.
+  VecX scale(cols);
+  MatX as = a;
+  for (Eigen::Index j = 0; j < cols; ++j) {
+    const double norm = a.col(j).norm();
+    scale(j) = norm > 0.0 ? 1.0 / norm : 0.0;
+    as.col(j) *= scale(j);
+  }
+  // Lawson & Hanson's tolerance on the dual vector w = A^T (b - A x) (as scipy's nnls).
+  const double tolerance = 10.0 * std::numeric_limits<double>::epsilon() *
+                           static_cast<double>(std::max(rows, cols)) *
+                           std::max(1.0, b.norm());
+  std::vector<bool> passive(static_cast<size_t>(cols), false);
+  VecX y = VecX::Zero(cols);  // the solution in scaled variables
+  const int max_outer = 3 * static_cast<int>(cols + 1);
+  int outer = 0;
+  while (true) {
+    // Dual vector; stop when no variable out of the passive set can decrease the residual.
+    const VecX w = as.transpose() * (b - as * y);
+    Eigen::Index t = -1;
+    double best = tolerance;
+    for (Eigen::Index j = 0; j < cols; ++j) {
+      if (!passive[static_cast<size_t>(j)] && scale(j) > 0.0 && w(j) > best) {
+        best = w(j);
+        t = j;
+      }
+    }
+    if (t < 0) break;
+    if (++outer > max_outer) {
+      outer = -1;
+      break;
+    }
+    passive[static_cast<size_t>(t)] = true;
+    // Inner loop: the unconstrained least squares on the passive set, stepping back to the
+    // feasible segment (and dropping the variables that reach 0) while it has components <= 0.
+    while (true) {
+      std::vector<Eigen::Index> set;
+      for (Eigen::Index j = 0; j < cols; ++j) {
+        if (passive[static_cast<size_t>(j)]) set.push_back(j);
+      }
+      MatX ap(rows, static_cast<Eigen::Index>(set.size()));
+      for (size_t k = 0; k < set.size(); ++k) ap.col(static_cast<Eigen::Index>(k)) = as.col(set[k]);
+      const VecX zp = ap.colPivHouseholderQr().solve(b);
+      VecX z = VecX::Zero(cols);
+      bool feasible = true;
+      for (size_t k = 0; k < set.size(); ++k) {
+        z(set[k]) = zp(static_cast<Eigen::Index>(k));
+        if (!(z(set[k]) > 0.0)) feasible = false;
+      }
+      if (feasible) {
+        y = z;
+        break;
+      }
+      // The largest step from y towards z that keeps every passive variable >= 0; the one
+      // that limits it (and any other that reaches 0) leaves the passive set.
+      double alpha = 1.0;
+      Eigen::Index limiting = -1;
+      for (Eigen::Index j : set) {
+        if (z(j) > 0.0) continue;
+        const double denominator = y(j) - z(j);  // y_j >= 0 >= z_j: the step is in [0, 1]
+        const double step = denominator > 0.0 ? y(j) / denominator : 0.0;
+        if (limiting < 0 || step < alpha) {
+          alpha = step;
+          limiting = j;
+        }
+      }
+      y += alpha * (z - y);
+      for (Eigen::Index j : set) {
+        if (j == limiting || y(j) <= 0.0) {
+          y(j) = 0.0;
+          passive[static_cast<size_t>(j)] = false;
+        }
+      }
+      if (std::none_of(passive.begin(), passive.end(), [](bool p) { return p; })) break;
+    }
+  }
+  *x = y.cwiseProduct(scale);
+  return outer;
+}
+
 double CentrelineDeviation(const StrandModel& model, const VecX& a, const VecX& b,
                            int points_per_segment) {
   const std::vector<Vec3> pa = SampleCentreline(model, a, points_per_segment);
@@ -75,13 +196,147 @@ double CentrelineDeviation(const StrandModel& model, const VecX& a, const VecX& 
   return deviation;
 }
 
+namespace {
+
+// The relative weight of the support forces' ridge (ChooseSupportForces).
+constexpr double kSupportRidge = 1e-5;
+
+// 1/2 sum_i l_i (q0_i - q0nat)^T K (q0_i - q0nat) (J): the elastic energy of bending the natural
+// shape into the rest shape q0.
+double RestEnergy(const StrandModel& model, const VecX& rest) {
+  const Vec3 k = model.Stiffness();
+  double energy = 0.0;
+  for (int i = 0; i < model.NumSegments(); ++i) {
+    const Vec3 d = rest.segment<3>(3 * i) - model.natural_curvature;
+    energy += 0.5 * model.segment_lengths[static_cast<size_t>(i)] * d.dot(k.cwiseProduct(d));
+  }
+  return energy;
+}
+
+// Contact forces as unknowns (docs/inverse.md, after Derouet-Jourdan et al., "Inverse dynamic
+// hair modeling with frictional contact", SIGGRAPH Asia 2013, without friction): the samples of
+// the target within the support tolerance of the clearance surface carry normal forces f_j n_j,
+// f_j >= 0. With them the closed form of InverseRestCurvatures becomes
+//   q0(f) = q + (l K)^(-1) (dE_ext/dq(q) + sum_j f_j a_j),  a_j = -J_j^T n_j
+// (PointForceGradient), affine in f. The forces minimize |W (q0(f) - q0nat)|^2 with W^2 =
+// diag(l_i K), i.e. twice the elastic energy that bends the natural shape (the hair type's
+// curvature) into the rest shape: the rest shape stays closest to the natural one in the
+// energy norm (for a straight natural shape this is Menabrea's theorem: the redundant reactions
+// minimize the complementary energy int M^2 / (2 E I) ds). The forward penalty reproduces f_j
+// through the sample's clearance shift: x_j = f_j / (k l_i / m).
+// Fills result->supports, support_offsets and the counts; returns the contact model to use.
+ContactModel ChooseSupportForces(const StrandModel& model, const VecX& target,
+                                 const InverseOptions& options, InverseResult* result) {
+  ContactModel contact = model.contact;
+  contact.support_offsets.clear();
+  const Obstacle* obstacle = contact.obstacle.get();
+  if (!options.contact_forces) return model.contact;
+  if (!obstacle) return contact;
+  const int n = model.NumSegments();
+  const int m = contact.samples_per_segment;
+  const double tolerance = options.support_tolerance * model.Length();
+  const StrandGeometry g = ComputeGeometry(model, target);
+
+  // The candidates: samples (those of the contact energy) within the tolerance of the surface.
+  std::vector<SupportSample>& supports = result->supports;
+  std::vector<double> offsets(static_cast<size_t>(n) * static_cast<size_t>(m), 0.0);
+  for (int i = 0; i < n; ++i) {
+    const Vec3 omega = target.segment<3>(3 * i);
+    const double w = model.segment_lengths[static_cast<size_t>(i)] / m;
+    for (int j = 0; j < m; ++j) {
+      SupportSample p;
+      p.segment = i;
+      p.index = j;
+      p.u = (j + 1) * w;
+      p.position = g.points[static_cast<size_t>(i)] +
+                   g.frames[static_cast<size_t>(i)] * HelixChord(omega, p.u);
+      p.distance = obstacle->SignedDistance(p.position, &p.normal) - contact.clearance;
+      if (!(std::abs(p.distance) <= tolerance)) continue;
+      // Without its force the sample sits exactly on its shifted surface (x = 0).
+      offsets[static_cast<size_t>(i * m + j)] = p.distance;
+      supports.push_back(p);
+    }
+  }
+  if (supports.empty()) return contact;
+  contact.support_offsets = offsets;
+
+  // q0 without support forces, and the columns (l K)^(-1) a_j per unit force.
+  StrandModel free = model;
+  free.contact = contact;
+  const VecX rest_free = InverseRestCurvatures(free, target);
+  const Vec3 k = model.Stiffness();
+  VecX inverse_stiffness(3 * n), weight(3 * n);  // (l K)^(-1) and W = (l K)^(1/2)
+  for (int i = 0; i < n; ++i) {
+    const Vec3 lk = model.segment_lengths[static_cast<size_t>(i)] * k;
+    inverse_stiffness.segment<3>(3 * i) = lk.cwiseInverse();
+    weight.segment<3>(3 * i) = lk.cwiseSqrt();
+  }
+  const Eigen::Index p = static_cast<Eigen::Index>(supports.size());
+  MatX a(3 * n, p);
+  for (Eigen::Index c = 0; c < p; ++c) {
+    const SupportSample& s = supports[static_cast<size_t>(c)];
+    a.col(c) = weight.cwiseProduct(inverse_stiffness.cwiseProduct(
+        PointForceGradient(model, target, s.segment, s.u, s.normal)));
+  }
+  // min |W (q0_free + (lK)^(-1) A f - q0nat)|^2, f >= 0, plus a tiny ridge. With m samples per
+  // segment and 3 rows per segment the columns are dependent: many force distributions give the
+  // same rest shape, and the NNLS vertex leaves most supports at f = 0, where the penalty has no
+  // stiffness, so the forward model can lose the stability the target had (measured: 7 of 120
+  // groomed wavy masters). The ridge kSupportRidge^2 sum_j |a_j|^2 (f_j - p_j)^2
+  // (column-scaled, so it has the objective's units) picks, among the (nearly) equally close
+  // rest shapes, the forces closest to p_j = w k max(0, clearance - d_j), the penalty forces of
+  // the forward model at the target: a groomed equilibrium gets back its own forces (and rest
+  // shape), a target lying on the surface the most even distribution. It changes the objective
+  // by a relative ~kSupportRidge^2.
+  VecX natural(3 * n);
+  for (int i = 0; i < n; ++i) natural.segment<3>(3 * i) = model.natural_curvature;
+  MatX augmented = MatX::Zero(3 * n + p, p);
+  augmented.topRows(3 * n) = a;
+  VecX b = VecX::Zero(3 * n + p);
+  b.head(3 * n) = -weight.cwiseProduct(rest_free - natural);
+  const double stiffness = model.ContactStiffness();
+  for (Eigen::Index c = 0; c < p; ++c) {
+    const SupportSample& s = supports[static_cast<size_t>(c)];
+    const double w = model.segment_lengths[static_cast<size_t>(s.segment)] / m;
+    const double penalty = w * stiffness * std::max(0.0, -s.distance);
+    augmented(3 * n + c, c) = kSupportRidge * a.col(c).norm();
+    b(3 * n + c) = augmented(3 * n + c, c) * penalty;
+  }
+  VecX f;
+  result->nnls_iterations = NonNegativeLeastSquares(augmented, b, &f);
+
+  // The penalty reproduces f_j: x_j = f_j / (k w_j), so clearance + offset_j - d_j = x_j.
+  for (Eigen::Index c = 0; c < p; ++c) {
+    SupportSample& s = supports[static_cast<size_t>(c)];
+    s.force = f(c);
+    const double w = model.segment_lengths[static_cast<size_t>(s.segment)] / m;
+    contact.support_offsets[static_cast<size_t>(s.segment * m + s.index)] =
+        s.force / (stiffness * w) + s.distance;
+    if (s.force > 0.0) {
+      ++result->supported_samples;
+      result->support_force += s.force;
+    }
+  }
+  result->support_offsets = contact.support_offsets;
+  return contact;
+}
+
+}  // namespace
+
 InverseResult InvertStrand(const StrandModel& model, const VecX& target,
                            const InverseOptions& options) {
   assert(target.size() == 3 * model.NumSegments());
   InverseResult result;
-  result.rest_curvatures = InverseRestCurvatures(model, target);
   StrandModel inverted = model;
+  inverted.contact = ChooseSupportForces(model, target, options, &result);
+  result.rest_curvatures = InverseRestCurvatures(inverted, target);
   inverted.rest_curvatures = result.rest_curvatures;
+  result.rest_energy = RestEnergy(model, result.rest_curvatures);
+  {
+    StrandModel plain = model;
+    plain.contact.support_offsets.clear();
+    result.rest_energy_unsupported = RestEnergy(model, InverseRestCurvatures(plain, target));
+  }
 
   // The certificate: the Hessian at the target (independent of q0) factored from tip to root.
   StrandHessian hessian;
@@ -89,7 +344,33 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
   StrandHessianFactor factor;
   result.stable = factor.Factor(hessian, 0.0);
   result.failed_segment = factor.failed_segment();
+  // Support forces can cost stability: a support at f = 0 has no penalty stiffness, and a normal
+  // force f on a convex part of the body (radius R) has the negative tangential stiffness -f/R
+  // of frictionless contact. When the target is not certified stable with the chosen forces but
+  // is with the model's own penalty forces, that rest shape is kept instead (the closest stable
+  // alternative, docs/inverse.md), and support_fallback says so.
+  // The smallest eigenvalue is checked too: the block factorization has been seen to pass a
+  // supported target whose eigenvalue estimate was -15 and which the forward solve left.
   result.min_eigenvalue = MinScaledHessianEigenvalue(inverted, target);
+  if (!(result.stable && result.min_eigenvalue > 0.0) && !result.support_offsets.empty()) {
+    StrandModel plain = model;
+    plain.contact.support_offsets.clear();
+    plain.rest_curvatures = InverseRestCurvatures(plain, target);
+    ComputeStrandHessian(plain, target, &hessian);
+    if (factor.Factor(hessian, 0.0) && MinScaledHessianEigenvalue(plain, target) > 0.0) {
+      inverted = plain;
+      result.rest_curvatures = plain.rest_curvatures;
+      result.rest_energy = result.rest_energy_unsupported;
+      result.support_offsets.clear();
+      for (SupportSample& p : result.supports) p.force = 0.0;
+      result.supported_samples = 0;
+      result.support_force = 0.0;
+      result.support_fallback = true;
+      result.stable = true;
+      result.failed_segment = -1;
+      result.min_eigenvalue = MinScaledHessianEigenvalue(inverted, target);
+    }
+  }
   result.kirchhoff_residual = KirchhoffResidual(inverted, target);
   const double length = model.Length();
 
@@ -101,7 +382,8 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
     result.forward = std::move(forward.summary);
   }
   if (options.naive) {
-    StrandModel naive = model;
+    StrandModel naive = model;  // the artist's groom: rest = target, the body as it is
+    naive.contact.support_offsets.clear();
     naive.rest_curvatures = target;
     StrandSolution sagged = SolveStrand(naive, options.solver, &target);
     result.naive_deviation =
@@ -115,6 +397,13 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
                                                          " not positive definite)";
   m += ", min scaled eigenvalue " + Number(result.min_eigenvalue) + ", Kirchhoff residual " +
        Number(result.kirchhoff_residual);
+  if (!result.supports.empty()) {
+    m += "; " + std::to_string(result.supported_samples) + " of " +
+         std::to_string(result.supports.size()) + " contact samples on the body carry " +
+         Number(result.support_force) + " N";
+    if (result.nnls_iterations < 0) m += " (NNLS did not terminate)";
+    if (result.support_fallback) m += " (the chosen forces were not stable: penalty forces kept)";
+  }
   if (options.verify) {
     m += "; forward solve " + std::string(TerminationName(result.forward.termination)) +
          ", deviation " + Number(result.deviation / length) + " L";

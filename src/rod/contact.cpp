@@ -9,7 +9,7 @@
 namespace ringlet {
 namespace {
 
-// Visits every sample (segment i, arc u, weight w, position x) of ContactModel.
+// Visits every sample (segment i, its index j, arc u, weight w, position x) of ContactModel.
 template <typename Visit>
 void ForEachSample(const StrandModel& model, const VecX& curvatures, const StrandGeometry& g,
                    Visit visit) {
@@ -19,7 +19,7 @@ void ForEachSample(const StrandModel& model, const VecX& curvatures, const Stran
     const double w = model.segment_lengths[i] / m;
     for (int j = 0; j < m; ++j) {
       const double u = (j + 1) * w;
-      visit(i, u, w, Vec3(g.points[i] + g.frames[i] * HelixChord(omega, u)));
+      visit(i, j, u, w, Vec3(g.points[i] + g.frames[i] * HelixChord(omega, u)));
     }
   }
 }
@@ -49,9 +49,9 @@ std::vector<ContactForce> ComputeContactForces(const StrandModel& model, const V
   if (!obstacle) return forces;
   const double k = model.ContactStiffness();
   const StrandGeometry g = ComputeGeometry(model, curvatures);
-  ForEachSample(model, curvatures, g, [&](int i, double u, double w, const Vec3& x) {
+  ForEachSample(model, curvatures, g, [&](int i, int j, double u, double w, const Vec3& x) {
     Vec3 normal;
-    const double depth = model.contact.clearance - obstacle->SignedDistance(x, &normal);
+    const double depth = model.contact.SampleClearance(i, j) - obstacle->SignedDistance(x, &normal);
     if (depth > 0.0) forces.push_back({i, u, x, (w * k * depth) * normal});
   });
   return forces;
@@ -69,8 +69,8 @@ ContactMeasure MeasureContact(const StrandModel& model, const VecX& curvatures) 
     measure.max_clearance_violation = std::max(measure.max_clearance_violation, clearance - d);
     return d;
   };
-  ForEachSample(model, curvatures, g, [&](int, double, double, const Vec3& x) {
-    if (account(x) < clearance) ++measure.samples_in_contact;
+  ForEachSample(model, curvatures, g, [&](int i, int j, double, double, const Vec3& x) {
+    if (account(x) < model.contact.SampleClearance(i, j)) ++measure.samples_in_contact;
   });
   for (size_t i = 1; i < g.points.size(); ++i) account(g.points[i]);
   return measure;

@@ -40,7 +40,7 @@ struct LoadSweep {
     ws->contacts_.clear();
     const Vec3 f = with_gravity ? model.WeightPerLength() : Vec3::Zero();
     const Obstacle* obstacle = with_contact ? model.contact.obstacle.get() : nullptr;
-    const double clearance = model.contact.clearance;
+    const ContactModel& contact = model.contact;
     const int m = model.contact.samples_per_segment;
     const double k = obstacle ? model.ContactStiffness() : 0.0;
 
@@ -62,7 +62,7 @@ struct LoadSweep {
       const Vec3 r_next = r + q * s.chord;
       if (obstacle) {
         const double d_end = obstacle->SignedDistance(model.root_position + r_next, nullptr);
-        if (std::min(d_start, d_end) - 0.5 * l < clearance) {
+        if (std::min(d_start, d_end) - 0.5 * l < contact.SegmentClearance(i)) {
           const double weight = l / m;  // samples at (j + 1) l / m, weight l / m
           for (int j = 0; j < m; ++j) {
             const double u = (j + 1) * weight;
@@ -70,7 +70,7 @@ struct LoadSweep {
             const Vec3 h = HelixChordFromFunctions(omega, u, functions);
             Vec3 normal;
             const double d = obstacle->SignedDistance(model.root_position + r + q * h, &normal);
-            const double x = clearance - d;  // penetration of the clearance layer
+            const double x = contact.SampleClearance(i, j) - d;  // penetration of the layer
             if (x <= 0.0) continue;
             ec += 0.5 * weight * k * x * x;
             ws->contacts_.push_back({i, u, h, -(weight * k * x) * normal, functions});

@@ -190,7 +190,7 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
   const Vec3 f = model.WeightPerLength();
   const Vec3 stiffness = model.Stiffness();
   const Obstacle* obstacle = model.contact.obstacle.get();
-  const double clearance = model.contact.clearance;
+  const ContactModel& contact = model.contact;
   const int m = model.contact.samples_per_segment;
   const double k_contact = obstacle ? model.ContactStiffness() : 0.0;
 
@@ -243,7 +243,7 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
     if (obstacle) {
       // The samples and the broad phase of ContactEnergy (energy.cpp).
       const double d_end = obstacle->SignedDistance(model.root_position + r_next, nullptr);
-      if (std::min(d_start, d_end) - 0.5 * l < clearance) {
+      if (std::min(d_start, d_end) - 0.5 * l < contact.SegmentClearance(i)) {
         const double weight = l / m;
         for (int j = 0; j < m; ++j) {
           SampleData p;
@@ -259,7 +259,7 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
           Mat3 distance_hessian;
           const double d =
               obstacle->SignedDistanceHessian(model.root_position + p.y, &normal, &distance_hessian);
-          const double x = clearance - d;  // penetration of the clearance layer
+          const double x = contact.SampleClearance(i, j) - d;  // penetration of the layer
           if (!(x > 0.0)) continue;
           // phi = 1/2 w k x^2: grad = -w k x n, Hessian = w k (n n^T - x d''(y)).
           p.force = -(weight * k_contact * x) * normal;

@@ -174,6 +174,23 @@ bool IsValid(const StrandModel& model, std::string* why) {
     if (why) *why = "contact samples per segment must be between 1 and 64";
     return false;
   }
+  if (!c.support_offsets.empty()) {
+    const size_t samples =
+        static_cast<size_t>(model.NumSegments()) * static_cast<size_t>(c.samples_per_segment);
+    if (c.support_offsets.size() != samples) {
+      if (why) {
+        *why = "contact support offsets: expected " + std::to_string(samples) +
+               " (one per contact sample) or none, got " + std::to_string(c.support_offsets.size());
+      }
+      return false;
+    }
+    for (double x : c.support_offsets) {
+      if (!std::isfinite(x)) {
+        if (why) *why = "contact support offsets must be finite (m)";
+        return false;
+      }
+    }
+  }
   return true;
 }
 
