@@ -117,6 +117,7 @@ void AddHairstyleOutputs(const InvertArgs& args, const std::vector<StrandModel>&
     e.rest_curvatures = m.rest_curvatures;
     e.start_curvatures = targets[i];
     e.clearance = m.contact.clearance;
+    e.support_offsets = m.contact.support_offsets;
   }
   // The body file relative to the output directory when it can be (the outputs move together).
   std::error_code body_ec, out_ec;
@@ -275,6 +276,7 @@ int RunInvert(const InvertArgs& args) {
     const InverseResult& r = results[i];
     const double length = models[i].Length();
     inverted[i].rest_curvatures = r.rest_curvatures;
+    inverted[i].contact.support_offsets = r.support_offsets;
     unstable += r.stable ? 0 : 1;
     unconverged += r.forward.Converged() ? 0 : 1;
     max_fit = std::max(max_fit, fit_max[i]);

@@ -82,6 +82,10 @@ struct ExplicitMaster {
   /// The contact clearance without the hull-layer offset (m, >= 0): absent, r_w max(1,
   /// tip_scale) as for sampled masters. `ringlet invert` gives its --clearance.
   std::optional<double> clearance;
+  /// Per-contact-sample shifts of the clearance (m), one per sample (segments x the hairstyle's
+  /// contact samples per segment), or empty: none (ContactModel::support_offsets). `ringlet
+  /// invert` gives the offsets with which the penalty reproduces the support forces it chose.
+  std::vector<double> support_offsets;
 };
 
 /// Masters given explicitly by a masters file (Hairstyle::explicit_masters).

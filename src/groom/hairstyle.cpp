@@ -224,6 +224,14 @@ bool BuildExplicitMasters(const Hairstyle& style, HairstyleMasters* out, std::st
     m.contact.clearance = out->contact_radii[i] + out->layers[i] * style.layers.thickness;
     m.contact.stiffness = style.contact_stiffness;
     m.contact.samples_per_segment = style.contact_samples;
+    m.contact.support_offsets = e.support_offsets;
+    if (!e.support_offsets.empty() &&
+        e.support_offsets.size() != static_cast<size_t>(m.NumSegments()) * style.contact_samples) {
+      return Fail(why, name + "support_offsets: has " + std::to_string(e.support_offsets.size()) +
+                           " entries, expected segments x contact samples = " +
+                           std::to_string(m.NumSegments()) + " x " +
+                           std::to_string(style.contact_samples));
+    }
     if (!IsValid(m, &reason)) return Fail(why, name + reason);
     if (e.start_curvatures.size() != 0 && e.start_curvatures.size() != 3 * m.NumSegments()) {
       return Fail(why, name + "curvatures: expected one triple per segment");

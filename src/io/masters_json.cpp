@@ -107,7 +107,7 @@ bool ParseMaster(Reader& reader, const json& master, const std::string& path, Ex
   if (!reader.CheckFields(master, path,
                           {"root", "segment_lengths", "section", "material", "natural_curvature",
                            "rest_curvatures", "curvatures", "layer", "wisp_radius",
-                           "clearance"}) ||
+                           "clearance", "support_offsets"}) ||
       !ParseRoot(reader, master, path, m)) {
     return false;
   }
@@ -193,6 +193,27 @@ bool ParseMaster(Reader& reader, const json& master, const std::string& path, Ex
     return false;
   }
   if (present) m->clearance = value;
+  // Support offsets: one per contact sample, so at most 64 (the most contact samples per segment
+  // a hairstyle takes) per segment; their exact count is checked against the hairstyle's
+  // contact samples when the masters are built.
+  const json* offsets = nullptr;
+  const char* offsets_expected = "an array of finite numbers (m), one per contact sample";
+  if (!reader.ReadArray(master, path, "support_offsets", offsets_expected, &offsets)) return false;
+  if (offsets) {
+    const std::string field = Member(path, "support_offsets");
+    if (offsets->size() > static_cast<size_t>(64) * static_cast<size_t>(n)) {
+      return reader.Fail(field, "has " + std::to_string(offsets->size()) +
+                                    " entries, more than 64 per segment");
+    }
+    m->support_offsets.reserve(offsets->size());
+    for (size_t k = 0; k < offsets->size(); ++k) {
+      const json& x = (*offsets)[k];
+      if (!x.is_number() || !std::isfinite(x.get<double>())) {
+        return reader.Expected(Element(field, k), "a finite number (m)", x);
+      }
+      m->support_offsets.push_back(x.get<double>());
+    }
+  }
   return true;
 }
 
@@ -328,12 +349,20 @@ std::string MastersToString(const std::vector<ExplicitMaster>& masters) {
       out += ",\n      \"clearance\": ";
       internal::AppendJsonNumber(*m.clearance, &out);
     }
+    if (!m.support_offsets.empty()) {
+      out += ",\n      \"support_offsets\": [";
+      for (size_t k = 0; k < m.support_offsets.size(); ++k) {
+        if (k > 0) out += ", ";
+        internal::AppendJsonNumber(m.support_offsets[k], &out);
+      }
+      out += "]";
+    }
     out += "\n    }";
   }
   out += "\n  ],\n  \"units\": {\"root.position\": \"m\", \"segment_lengths\": \"m\", "
          "\"section\": \"m (semi-axes)\", \"material\": \"Pa, -, kg/m^3\", "
          "\"curvatures\": \"1/m, [kappa1, kappa2, tau] in the material frame\", "
-         "\"wisp_radius\": \"m\", \"clearance\": \"m\"}\n}\n";
+         "\"wisp_radius\": \"m\", \"clearance\": \"m\", \"support_offsets\": \"m\"}\n}\n";
   return out;
 }
 
@@ -354,6 +383,7 @@ std::vector<ExplicitMaster> ExplicitMastersOf(const HairstyleMasters& masters,
     if (i < masters.layers.size()) e.layer = masters.layers[i];
     if (i < masters.wisp_radii.size()) e.wisp_radius = masters.wisp_radii[i];
     if (i < masters.contact_radii.size()) e.clearance = masters.contact_radii[i];
+    e.support_offsets = m.contact.support_offsets;
   }
   return out;
 }
