@@ -6,9 +6,6 @@
 #include <cmath>
 #include <string>
 #include <vector>
-#ifdef FIT_DEBUG
-#include <cstdio>
-#endif
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -36,6 +33,14 @@ constexpr double kStepTolerance = 1e-15;
 // The smallest damping of the global refinement (keeps the step finite where a segment of one
 // edge leaves a direction free).
 constexpr double kMinimumDamping = 1e-12;
+// Segments fitted together in the root-to-tip pass (FitWithSegments).
+constexpr int kWindow = 2;
+// The global refinement stops after this many rejected steps in a row (damping raised 4^6 =
+// 4096 times without lowering the cost: the cost is at its floor).
+constexpr int kMaxAttempts = 6;
+// The global refinement stops when a step lowers the cost by less than this fraction (a zero-
+// residual fit converges quadratically and reaches rounding before).
+constexpr double kRelativeDecrease = 1e-6;
 
 // The fit of one segment: start (r0, Q0), target points in the start frame W_1..W_k (the last
 // one is the segment's end). Unknowns y = (Omega (3), l, sigma_1 .. sigma_(k-1)); residuals
@@ -401,7 +406,7 @@ int RefineChain(const std::vector<Vec3>& points, const std::vector<int>& b, bool
     ++iterations;
     Linearize(points, b, *c, &stages);
     bool improved = false, tiny = false;
-    for (int attempt = 0; attempt < 30; ++attempt) {
+    for (int attempt = 0; attempt < kMaxAttempts; ++attempt) {
       double size = 0.0;
       const Chain trial = Step(*c, b, &stages, free_root, mu, &size);
       if (!(size > kStepTolerance)) {
@@ -417,11 +422,10 @@ int RefineChain(const std::vector<Vec3>& points, const std::vector<int>& b, bool
         cost = trial_cost;
         mu = std::max(mu * kDampingDown, kMinimumDamping);
         improved = true;
-#ifdef FIT_DEBUG
-        std::fprintf(stderr, "it %d attempt %d cost %.3e mu %.1e size %.2e\n", it, attempt, cost, mu, size);
-#endif
-        // Converged when a full step no longer changes the cost (relative 1e-12).
-        if (decrease <= 1e-12 * (cost + decrease)) tiny = true;
+
+        // Converged when a step no longer changes the cost (relative): the noise floor of a
+        // polyline that is no piecewise helix, or rounding.
+        if (decrease <= kRelativeDecrease * (cost + decrease)) tiny = true;
         break;
       }
       mu *= kDampingUp;
@@ -447,8 +451,32 @@ Vec3 RootTangent(const std::vector<Vec3>& points) {
   return u.dot(a.normalized()) > 0.5 ? u : Vec3(a.normalized());
 }
 
-// The fit with n segments (1 <= n <= edges): greedy root to tip, then the global refinement
-// (with the root tangent free when no root frame was given).
+// The fit of one segment alone from the frame (r, q) (FitSegment on the points of segment i in
+// that frame); fills the segment's unknowns in *chain.
+int GreedySegment(const std::vector<Vec3>& points, const std::vector<int>& b, int i, const Vec3& r,
+                  const Mat3& q, int max_iterations, Chain* chain) {
+  const int b0 = b[static_cast<size_t>(i)], b1 = b[static_cast<size_t>(i) + 1];
+  std::vector<Vec3> w;
+  std::vector<double> fraction;
+  double total = 0.0;
+  for (int e = b0; e < b1; ++e) total += (points[e + 1] - points[e]).norm();
+  double acc = 0.0;
+  for (int p = b0 + 1; p <= b1; ++p) {
+    w.push_back(q.transpose() * (points[p] - r));
+    acc += (points[p] - points[p - 1]).norm();
+    fraction.push_back(acc / total);
+  }
+  const SegmentFit f = FitSegment(w, fraction, max_iterations);
+  chain->omega[static_cast<size_t>(i)] = f.omega;
+  chain->length[static_cast<size_t>(i)] = f.length;
+  for (int p = b0 + 1; p < b1; ++p) {
+    chain->sigma[static_cast<size_t>(p)] = f.u[static_cast<size_t>(p - b0 - 1)] / f.length;
+  }
+  return f.iterations;
+}
+
+// The fit with n segments (1 <= n <= edges), root to tip with a look-ahead window, then the
+// global refinement (the root tangent free when no root frame was given).
 void FitWithSegments(const std::vector<Vec3>& points, const Mat3& root_frame, bool free_root,
                      int n, const FitOptions& options, HelixFit* fit) {
   const int edges = static_cast<int>(points.size()) - 1;
@@ -459,28 +487,57 @@ void FitWithSegments(const std::vector<Vec3>& points, const Mat3& root_frame, bo
   chain.length.resize(static_cast<size_t>(n));
   chain.sigma.assign(points.size(), 1.0);
   fit->iterations = 0;
+  int window = kWindow;
+  if (options.refine_iterations == 0) window = 1;
+  // Segments [i, i + window) are fitted together from the frame (r, q) at the start of segment
+  // i (the root's tilt free in the first window), then segment i is kept: its end tangent is
+  // fitted to the following segments' points too, so that the noise of one segment's points is
+  // not passed on to the next one as a wrong start tangent.
   Mat3 q = root_frame;
   Vec3 r = points[0];
+  int initialized = 0;  // segments [0, initialized) have initial values
   for (int i = 0; i < n; ++i) {
-    const int b0 = b[static_cast<size_t>(i)], b1 = b[static_cast<size_t>(i) + 1];
-    std::vector<Vec3> w;
-    std::vector<double> fraction;
-    double total = 0.0;
-    for (int e = b0; e < b1; ++e) total += (points[e + 1] - points[e]).norm();
-    double acc = 0.0;
-    for (int p = b0 + 1; p <= b1; ++p) {
-      w.push_back(q.transpose() * (points[p] - r));
-      acc += (points[p] - points[p - 1]).norm();
-      fraction.push_back(acc / total);
+    const int last = std::min(i + window, n);
+    // Initial values of the segments entering the window: greedy from the window's end frame.
+    Mat3 qe = q;
+    Vec3 re = r;
+    for (int k = i; k < last; ++k) {
+      if (k >= initialized) {
+        fit->iterations += GreedySegment(points, b, k, re, qe, options.max_iterations, &chain);
+        initialized = k + 1;
+      }
+      const HelixSegment seg = EvaluateHelixSegment(chain.omega[static_cast<size_t>(k)],
+                                                    chain.length[static_cast<size_t>(k)]);
+      re += qe * seg.chord;
+      qe = qe * seg.rotation;
     }
-    const SegmentFit f = FitSegment(w, fraction, options.max_iterations);
-    fit->iterations += f.iterations;
-    chain.omega[static_cast<size_t>(i)] = f.omega;
-    chain.length[static_cast<size_t>(i)] = f.length;
-    for (int p = b0 + 1; p < b1; ++p) {
-      chain.sigma[static_cast<size_t>(p)] = f.u[static_cast<size_t>(p - b0 - 1)] / f.length;
+    if (window > 1) {
+      const int p0 = b[static_cast<size_t>(i)];
+      std::vector<Vec3> sub_points(points.begin() + p0, points.begin() + b[static_cast<size_t>(last)] + 1);
+      sub_points[0] = r;
+      std::vector<int> sub_b;
+      Chain sub;
+      sub.root = q;
+      for (int k = i; k <= last; ++k) sub_b.push_back(b[static_cast<size_t>(k)] - p0);
+      for (int k = i; k < last; ++k) {
+        sub.omega.push_back(chain.omega[static_cast<size_t>(k)]);
+        sub.length.push_back(chain.length[static_cast<size_t>(k)]);
+      }
+      sub.sigma.assign(chain.sigma.begin() + p0, chain.sigma.begin() + b[static_cast<size_t>(last)] + 1);
+      fit->iterations +=
+          RefineChain(sub_points, sub_b, free_root && i == 0, options.refine_iterations, &sub);
+      for (int k = i; k < last; ++k) {
+        chain.omega[static_cast<size_t>(k)] = sub.omega[static_cast<size_t>(k - i)];
+        chain.length[static_cast<size_t>(k)] = sub.length[static_cast<size_t>(k - i)];
+      }
+      std::copy(sub.sigma.begin(), sub.sigma.end(), chain.sigma.begin() + p0);
+      if (i == 0) {
+        chain.root = sub.root;
+        q = sub.root;
+      }
     }
-    const HelixSegment seg = EvaluateHelixSegment(f.omega, f.length);
+    const HelixSegment seg = EvaluateHelixSegment(chain.omega[static_cast<size_t>(i)],
+                                                  chain.length[static_cast<size_t>(i)]);
     r += q * seg.chord;
     q = q * seg.rotation;
   }
