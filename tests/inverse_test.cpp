@@ -338,10 +338,10 @@ TEST(FitPiecewiseHelix, HelixAgainstClosedForm) {
 
 // A planar curve that is no piecewise helix (a parabola z = x^2 / (2 a), a = 0.05 m, 64 edges)
 // with its exact root tangent (+x): the automatic segment count meets the tolerance 1e-3 L and
-// half as many segments do not. Measured largest distances: 9.3e-5 m (2e-4 L) with 32 segments,
-// 2.8e-3 m with 16. Without a root frame (tangent along the first edge, 1.8 degrees off) the
-// greedy fit needs more segments (the tangent error is inherited along the strand,
-// docs/inverse.md "Limits"), but still meets the tolerance.
+// half as many segments do not. Measured largest distances: 2.2e-4 L with 8 segments, 4.1e-3 L
+// with 4 (the greedy fit before the global refinement needed 32 segments). Without a root frame
+// the root tangent is fitted too: it ends closer to the true one (+x) than the first edge's
+// direction (1.8 degrees off), and the tolerance is met with as few segments.
 TEST(FitPiecewiseHelix, AutomaticSegmentCountMeetsTheTolerance) {
   std::vector<Vec3> points;
   for (int j = 0; j <= 64; ++j) {
@@ -358,7 +358,7 @@ TEST(FitPiecewiseHelix, AutomaticSegmentCountMeetsTheTolerance) {
   ASSERT_TRUE(FitPiecewiseHelix(points, &frame, options, &fit, &why)) << why;
   const int chosen = fit.NumSegments();
   EXPECT_LE(fit.max_distance, 1e-3 * polyline);
-  EXPECT_EQ(chosen, 32);
+  EXPECT_EQ(chosen, 8);
   EXPECT_LE(fit.rms_distance, fit.max_distance);
   options.segments = chosen / 2;
   HelixFit coarse;
@@ -372,7 +372,13 @@ TEST(FitPiecewiseHelix, AutomaticSegmentCountMeetsTheTolerance) {
   HelixFit free_root;
   ASSERT_TRUE(FitPiecewiseHelix(points, nullptr, options, &free_root, &why)) << why;
   EXPECT_LE(free_root.max_distance, 1e-3 * polyline);
-  EXPECT_NEAR(free_root.root_frame.col(2).dot((points[1] - points[0]).normalized()), 1.0, 1e-15);
+  EXPECT_LE(free_root.NumSegments(), chosen);
+  const double edge_angle = std::acos((points[1] - points[0]).normalized().x());
+  const double fitted_angle = std::atan2(free_root.root_frame.col(2).tail<2>().norm(),
+                                         free_root.root_frame.col(2).x());
+  EXPECT_LT(fitted_angle, edge_angle);
+  std::printf("free root: %d segments, root tangent %.3g rad off (first edge %.3g rad)\n",
+              free_root.NumSegments(), fitted_angle, edge_angle);
 }
 
 // A closed-form error bound on a curve that is no piecewise helix: the parabola z = x^2 / (2a)
