@@ -119,7 +119,7 @@ std::vector<StrandModel> FittedModels(const Head& head, const std::vector<HelixF
     models[i].segment_lengths = fits[i].segment_lengths;
     models[i].root_position = fits[i].root_position;
     models[i].root_frame = fits[i].root_frame;
-    models[i].rest_curvatures.clear();
+    models[i].rest_curvatures.resize(0);
     targets->push_back(fits[i].curvatures);
   }
   return models;
