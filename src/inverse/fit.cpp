@@ -422,7 +422,6 @@ int RefineChain(const std::vector<Vec3>& points, const std::vector<int>& b, bool
         cost = trial_cost;
         mu = std::max(mu * kDampingDown, kMinimumDamping);
         improved = true;
-
         // Converged when a step no longer changes the cost (relative): the noise floor of a
         // polyline that is no piecewise helix, or rounding.
         if (decrease <= kRelativeDecrease * (cost + decrease)) tiny = true;
