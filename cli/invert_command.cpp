@@ -1,6 +1,6 @@
 // `ringlet invert TARGET -o OUTDIR/`: inverse statics (issue 13, docs/inverse.md). Reads target
-// strands (ringlet's own result / masters JSON as exact piecewise helices, or polylines from a
-// .hair file fitted by G1 piecewise helices), computes the rest shapes that hold them under
+// strands (ringlet's own result / masters JSON as exact piecewise helices, or polylines from
+// .hair, .data, .usda or .obj files, strand_targets.h, fitted by G1 piecewise helices), computes the rest shapes that hold them under
 // gravity (and body contact with --body), certifies their stability, verifies them by the forward
 // solve, compares with the naive rest shape, and writes:
 //   rest_shapes.json   a scene file (docs/scene-format.md) with per-strand rest_curvatures:
@@ -38,6 +38,7 @@
 #include "ringlet/result_targets.h"
 #include "ringlet/scene_json.h"
 #include "ringlet/strand_geometry.h"
+#include "ringlet/strand_targets.h"
 
 namespace ringlet::cli {
 namespace {
@@ -51,6 +52,8 @@ struct InvertArgs {
   double fit_tolerance = 1e-3;
   double units_per_metre = 1.0;
   std::string up = "z";
+  bool units_given = false;  // --units-per-metre or --up on the command line
+  bool ignore_usda_metadata = false;
   double clearance = 0.0;
   int threads = 0;
   bool no_support_forces = false;  // contact forces as unknowns off (docs/inverse.md)
@@ -203,9 +206,25 @@ int RunInvert(const InvertArgs& args) {
       fit_max.push_back(0.0);
       fit_rms.push_back(0.0);
     }
-  } else if (extension == ".hair") {
+  } else if (extension == ".hair" || extension == ".data" || extension == ".usda" ||
+             extension == ".obj") {
+    // Polylines (strand_targets.h), in metres z up, every strand checked by the reader.
+    StrandTargetOptions read_options;
+    read_options.units_per_metre = args.units_per_metre;
+    read_options.up_axis =
+        args.up == "y" ? StrandTargetOptions::UpAxis::kY : StrandTargetOptions::UpAxis::kZ;
+    // .usda: the stage's metersPerUnit and upAxis, unless --ignore-usda-metadata (as `ringlet
+    // convert`); a unit or axis flag that would be ignored is an error, not a silent default.
+    read_options.ignore_file_metadata = args.ignore_usda_metadata;
+    if (extension == ".usda" && args.units_given && !args.ignore_usda_metadata) {
+      PrintError("--units-per-metre / --up: " + args.target_path +
+                 " is a .usda stage, whose metersPerUnit and upAxis apply; add "
+                 "--ignore-usda-metadata to use the flags instead");
+      return kExitBadInput;
+    }
     HairCurves curves;
-    if (!ReadHairFile(args.target_path, &curves, &error, args.units_per_metre)) {
+    StrandTargetSummary read_summary;
+    if (!ReadStrandTargets(args.target_path, read_options, &curves, &read_summary, &error)) {
       PrintError(error);
       return kExitBadInput;
     }
@@ -213,21 +232,25 @@ int RunInvert(const InvertArgs& args) {
       PrintError(args.target_path + ": no strands");
       return kExitBadInput;
     }
+    std::vector<std::vector<Vec3>> polylines(static_cast<size_t>(curves.NumStrands()));
     size_t offset = 0;
-    for (int k = 0; k < curves.NumStrands(); ++k) {
-      std::vector<Vec3> points;
-      for (uint32_t p = 0; p < curves.point_counts[static_cast<size_t>(k)]; ++p) {
-        const Vec3 x = curves.points[offset + p].cast<double>();
-        // y up -> z up: a quarter turn about x, (x, y, z) -> (x, -z, y).
-        points.push_back(args.up == "y" ? Vec3(x.x(), -x.z(), x.y()) : x);
+    for (size_t k = 0; k < polylines.size(); ++k) {
+      for (uint32_t p = 0; p < curves.point_counts[k]; ++p) {
+        polylines[k].push_back(curves.points[offset + p].cast<double>());
       }
-      offset += curves.point_counts[static_cast<size_t>(k)];
-      HelixFit fit;
-      std::string why;
-      if (!FitPiecewiseHelix(points, nullptr, fit_options, &fit, &why)) {
-        PrintError(args.target_path + ": strand " + std::to_string(k) + ": " + why);
-        return kExitBadInput;
-      }
+      offset += curves.point_counts[k];
+    }
+    std::vector<HelixFit> fits;
+    int failed = 0;
+    if (!FitPiecewiseHelices(polylines, fit_options, args.threads, &fits, &failed, &error)) {
+      const size_t k = static_cast<size_t>(failed);
+      const uint64_t file_index = k < read_summary.file_strand_index.size()
+                                      ? read_summary.file_strand_index[k]
+                                      : static_cast<uint64_t>(k);
+      PrintError(args.target_path + ": strand " + std::to_string(file_index) + ", " + error);
+      return kExitBadInput;
+    }
+    for (const HelixFit& fit : fits) {
       StrandModel m;
       m.segment_lengths = fit.segment_lengths;
       m.root_position = fit.root_position;
@@ -239,7 +262,8 @@ int RunInvert(const InvertArgs& args) {
     }
   } else {
     PrintError(args.target_path + ": unknown target format \"" + extension +
-               "\" (expected .json: a ringlet result or masters file, or .hair)");
+               "\" (expected .json: a ringlet result or masters file, or polylines: .hair, "
+               ".data, .usda or .obj)");
     return kExitBadInput;
   }
   const double fit_seconds = SecondsSince(fit_start);
@@ -392,7 +416,8 @@ Command AddInvertCommand(CLI::App* parent) {
       "every target holds stably, 2 when some cannot (files still written), 1 on bad usage or "
       "input.");
   app->add_option("target", args->target_path,
-                  "Target strands: a ringlet result or masters JSON (exact), or a .hair file")
+                  "Target strands: a ringlet result or masters JSON (exact), or polylines "
+                  "(fitted): .hair, .data (USC-HairSalon), .usda (linear BasisCurves), .obj")
       ->required();
   app->add_option("-o,--output", args->output_dir, "Output directory (created if missing)")
       ->required();
@@ -409,9 +434,17 @@ Command AddInvertCommand(CLI::App* parent) {
       ->check(CLI::Range(0, kMaxSegments));
   app->add_option("--fit-tolerance", args->fit_tolerance,
                   "Largest fit distance in units of the strand length (default 1e-3)");
-  app->add_option("--units-per-metre", args->units_per_metre,
-                  "Length unit of .hair files per metre (default 1; 100: cm)");
-  app->add_option("--up", args->up, "Up axis of the target file: z (default) or y");
+  CLI::Option* units = app->add_option(
+      "--units-per-metre", args->units_per_metre,
+      "Length units per metre of polyline targets (.hair, .data, .obj; .usda only with "
+      "--ignore-usda-metadata), default 1 (100: cm); also the unit of the written .hair files");
+  CLI::Option* up = app->add_option(
+      "--up", args->up,
+      "Up axis of polyline targets: z (default) or y, rotated to z up by (x, y, z) -> "
+      "(x, -z, y) (.usda only with --ignore-usda-metadata)");
+  app->add_flag("--ignore-usda-metadata", args->ignore_usda_metadata,
+                "Use --units-per-metre and --up for a .usda target instead of its stage's "
+                "metersPerUnit and upAxis");
   app->add_flag("--no-support-forces", args->no_support_forces,
                 "Do not treat the body's contact forces as unknowns: use the penalty forces the "
                 "forward model gives at the target (zero unless it enters the clearance layer)");
@@ -419,7 +452,10 @@ Command AddInvertCommand(CLI::App* parent) {
   app->add_option("--threads", args->threads, "Worker threads (default 0: all cores)")
       ->check(CLI::Range(0, 1024));
   app->add_flag("-q,--quiet", args->quiet, "Print no summary (errors still go to stderr)");
-  return Command{app, [args] { return RunInvert(*args); }};
+  return Command{app, [args, units, up] {
+                   args->units_given = units->count() + up->count() > 0;
+                   return RunInvert(*args);
+                 }};
 }
 
 }  // namespace ringlet::cli

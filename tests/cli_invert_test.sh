@@ -53,10 +53,10 @@ for sa, sb in zip(a, b):
 EOF
 
 # A .hair target: the naive equilibria (4 points per segment in the file), fitted with 15
-# segments and inverted. The file has no root frame: the root tangent is the first edge's, a few
-# degrees off the true one, which the greedy fit carries along the strand (docs/inverse.md,
-# "Limits": measured 0.075 L here), so only the inversion of the fitted curve is held to 1e-6 L
-# and the reported fit error to consistency with the per-strand values.
+# segments and inverted. The file has no root frame: the fit refines the root tangent with the
+# curve (docs/inverse.md); its accuracy on every format is checked by cli_invert_formats_test.sh,
+# here the inversion of the fitted curve (<= 1e-6 L) and the reported fit error's consistency
+# with the per-strand values.
 run invert "$work/out/naive.hair" -o "$work/hair" --segments 15
 expect_rc "invert a .hair target" 0
 "$PYTHON" - "$work/hair/summary.json" <<'EOF' && ok || fail "hair summary.json values"
@@ -153,7 +153,7 @@ header = b"HAIR" + struct.pack("<IIIIff3f", 1, 3, 0x2, 2, 1e-4, 1.0, 0, 0, 0)
 header += b"\0" * (128 - len(header))
 open(sys.argv[1], "wb").write(header + struct.pack("<9f", *points))
 EOF
-bad "repeated point" "strand 0: point 2: repeats point 1" "$work/repeat.hair"
+bad "repeated point" "strand 0, point 2: repeated point" "$work/repeat.hair"
 echo '{"strands": [{"points": [[0,0,0],[0,0,-0.1]], "curvatures": [[1,0,0]], "segment_lengths": [0.1]}]}' \
   >"$work/off.json"
 bad "points off the helix" "strands[0].points[1]: does not lie on the helix" "$work/off.json"

@@ -179,8 +179,11 @@ struct FitOptions {
   /// Largest allowed distance from a target point to the fitted curve, in units of the
   /// polyline's length (dimensionless, > 0), when segments = 0.
   double tolerance = 1e-3;
-  /// Levenberg-Marquardt iterations per segment (>= 1).
+  /// Levenberg-Marquardt iterations per segment of the greedy initialization (>= 1).
   int max_iterations = 100;
+  /// Levenberg-Marquardt iterations of the global refinement of all segments (and of the root
+  /// tangent when no root frame is given) after the greedy initialization (>= 0; 0: greedy only).
+  int refine_iterations = 100;
   /// The axis of DefaultRootFrame's n1 rule when no root frame is given (world, non-zero).
   Vec3 n1_axis = Vec3::UnitZ();
 
@@ -205,20 +208,34 @@ struct HelixFit {
 };
 
 /// Fits a G1 piecewise helix to the polyline `points` (m, root first, >= 2 points, consecutive
-/// points distinct). The root is clamped at points[0] with root_frame when given (ringlet's own
-/// files), otherwise with the tangent along the first edge and DefaultRootFrame's n1.
+/// points distinct). The root is clamped at points[0]. With root_frame (ringlet's own files) the
+/// root frame is that one, fixed; without, the root tangent starts as the tangent at points[0] of
+/// the circle through the first three points and is refined with the curve (its tilt is an
+/// unknown of the global refinement), and n1 follows DefaultRootFrame's rule for the final
+/// tangent.
 ///
 /// Method: segment boundaries lie at target points (segment i spans edges [b_i, b_(i+1)) with
-/// b_i = floor(i m / n), m edges), and the segments are fitted root to tip, each from the end
-/// frame of the previous one (so the curve is G1 by construction): the unknowns of segment i are
-/// its curvatures Omega (3), its length l and the arc lengths sigma_j l of its inner target
-/// points; the residuals are r(sigma_j l) - P_j for the inner points and r(l) - P_end for the
-/// point at its end (pinned, so that errors do not accumulate along the strand). They are
-/// minimized by Levenberg-Marquardt with the exact Jacobian of the closed-form helix (chord
-/// derivative HelixChordVjp, tangent R(u) e3), from the circular arc that leaves with the start
-/// tangent and reaches the end point. A target that is itself a G1 piecewise helix with breaks
-/// at its points is recovered to rounding. Returns false with a one-line reason for bad input.
+/// b_i = floor(i m / n), m edges). Unknowns: every segment's curvatures Omega_i (3) and length
+/// l_i, the arc length sigma_j l_i of every inner target point of its segment, and the root
+/// tangent's tilt (2) when free; residuals: r(s_j) - P_j for every target point (a segment's end
+/// at u = l_i). (1) Greedy initialization root to tip: each segment fitted alone from the end
+/// frame of the previous one by Levenberg-Marquardt with the exact Jacobian of the closed-form
+/// helix (chord derivative HelixChordVjp, tangent R(u) e3), from the circular arc that leaves
+/// with the start tangent and reaches the end point. (2) Global refinement: Levenberg-Marquardt
+/// on all unknowns at once, each damped Gauss-Newton step solved exactly in O(n) as a
+/// linear-quadratic regulator along the chain (backward Riccati sweep of 6x6 matrices; the
+/// inner points' arc lengths eliminated in closed form). The curve is G1 by construction. A
+/// target that is itself a G1 piecewise helix with breaks at its points is recovered to
+/// rounding, with or without its root frame. Returns false with a one-line reason for bad input.
 bool FitPiecewiseHelix(const std::vector<Vec3>& points, const Mat3* root_frame,
                        const FitOptions& options, HelixFit* fit, std::string* why);
+
+/// FitPiecewiseHelix on every polyline (no root frames), in parallel across strands (TBB) on
+/// `threads` worker threads (0: all); the fits do not depend on the thread count. fits gets one
+/// HelixFit per polyline. Returns false for bad input: *failed (if given) is the index of the
+/// first polyline that failed and *why its reason (FitPiecewiseHelix's "point I: ...").
+bool FitPiecewiseHelices(const std::vector<std::vector<Vec3>>& polylines,
+                         const FitOptions& options, int threads, std::vector<HelixFit>* fits,
+                         int* failed, std::string* why);
 
 }  // namespace ringlet

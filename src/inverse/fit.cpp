@@ -1,9 +1,15 @@
 // Fit of a target polyline by a G1 piecewise helix, segment by segment with Levenberg-Marquardt
 // on the closed-form helix (inverse.h, docs/inverse.md).
 #include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "ringlet/helix.h"
 #include "ringlet/inverse.h"
@@ -24,6 +30,17 @@ constexpr double kDampingUp = 4.0;
 // Stop when a step changes no unknown by more than this, relative to its scale (the segment's
 // length for lengths, 1/l for curvatures, 1 for the fractions): rounding.
 constexpr double kStepTolerance = 1e-15;
+// The smallest damping of the global refinement (keeps the step finite where a segment of one
+// edge leaves a direction free).
+constexpr double kMinimumDamping = 1e-12;
+// Segments fitted together in the root-to-tip pass (FitWithSegments).
+constexpr int kWindow = 2;
+// The global refinement stops after this many rejected steps in a row (damping raised 4^6 =
+// 4096 times without lowering the cost: the cost is at its floor).
+constexpr int kMaxAttempts = 6;
+// The global refinement stops when a step lowers the cost by less than this fraction (a zero-
+// residual fit converges quadratically and reaches rounding before).
+constexpr double kRelativeDecrease = 1e-6;
 
 // The fit of one segment: start (r0, Q0), target points in the start frame W_1..W_k (the last
 // one is the segment's end). Unknowns y = (Omega (3), l, sigma_1 .. sigma_(k-1)); residuals
@@ -145,48 +162,415 @@ SegmentFit FitSegment(const std::vector<Vec3>& w, const std::vector<double>& edg
   return fit;
 }
 
-// The fit with n segments (1 <= n <= edges).
-void FitWithSegments(const std::vector<Vec3>& points, const Mat3& root_frame, int n,
-                     int max_iterations, HelixFit* fit) {
-  const int edges = static_cast<int>(points.size()) - 1;
-  fit->root_position = points[0];
-  fit->root_frame = root_frame;
-  fit->segment_lengths.assign(static_cast<size_t>(n), 0.0);
-  fit->curvatures.resize(3 * n);
-  fit->arc_lengths.assign(points.size(), 0.0);
-  fit->iterations = 0;
-  Mat3 q = root_frame;
+// ---------------------------------------------------------------------------------------------
+// Global refinement: Levenberg-Marquardt on all segments at once, solved exactly in O(n) by the
+// chain's structure (a discrete-time linear-quadratic regulator).
+//
+// Unknowns: the curvatures Omega_i and lengths l_i of every segment (the "controls" u_i), the
+// fractions sigma_j of the inner points, and (without a given root frame) the tilt of the root
+// tangent. The state x_i = (dr_i, dtheta_i) (6) is the first-order change of the start frame of
+// segment i (position, and rotation in world coordinates: Q -> exp([dtheta]x) Q). Linearized,
+//   x_(i+1) = A_i x_i + B_i u_i,  A_i = [I, -[c_i]x; 0, I]  (c_i = Q_i p_i, the world chord),
+//   B_i = [Q_i dp/dOmega, Q_i R_i e3; Q_(i+1) J_i, Q_(i+1) Omega_i],
+// with J_i = l I - l^2 G2 [Omega]x + l^3 G3 [Omega]x^2 (l times SO(3)'s right Jacobian at
+// l Omega: exp(l[Omega + dOmega]x) = R exp([J_i dOmega]x)), and every residual of segment i is
+//   e_j + dr_i + dtheta_i x (Q_i p(u_j)) + Q_i (dp/dOmega(u_j) dOmega + t_j (sigma_j dl + l dsigma_j))
+// (t_j = R(u_j) e3 the tangent). Each sigma_j enters one residual only: eliminated in closed form
+// (weight I - t t^T / (1 + mu) on that residual, Marquardt damping mu l^2 on dsigma_j). The
+// damped Gauss-Newton step then minimizes a sum of stage costs of (x_i, u_i) under the linear
+// chain: a backward Riccati sweep (6x6 cost-to-go matrices) and a forward sweep give the exact
+// step in O(n), instead of the O(n^3) dense normal equations.
+using Vec4 = Eigen::Matrix<double, 4, 1>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Vec11 = Eigen::Matrix<double, 11, 1>;
+using Mat4 = Eigen::Matrix<double, 4, 4>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Mat11 = Eigen::Matrix<double, 11, 11>;
+using Mat64 = Eigen::Matrix<double, 6, 4>;
+using Mat46 = Eigen::Matrix<double, 4, 6>;
+
+// A piecewise helix with its point parameters: segment i spans the points (b_i, b_(i+1)].
+struct Chain {
+  Mat3 root = Mat3::Identity();
+  std::vector<Vec3> omega;
+  std::vector<double> length;
+  std::vector<double> sigma;  // per point: the fraction of its segment's length (inner points)
+};
+
+// Segment boundaries b_i = floor(i m / n), i = 0..n.
+std::vector<int> Boundaries(int edges, int n) {
+  std::vector<int> b(static_cast<size_t>(n) + 1);
+  for (int i = 0; i <= n; ++i) {
+    b[static_cast<size_t>(i)] = static_cast<int>(static_cast<long long>(i) * edges / n);
+  }
+  return b;
+}
+
+// Sum of squared distances between the target points and the chain's points (m^2); the
+// per-point distances in *distances if given.
+double ChainCost(const std::vector<Vec3>& points, const std::vector<int>& b, const Chain& c,
+                 std::vector<double>* distances) {
+  const int n = static_cast<int>(c.omega.size());
+  Mat3 q = c.root;
   Vec3 r = points[0];
-  double s = 0.0;
-  double max_d = 0.0, sum_d2 = 0.0;
+  double cost = 0.0;
+  if (distances) distances->assign(points.size(), 0.0);
   for (int i = 0; i < n; ++i) {
-    // Segment i spans the edges [b0, b1) (b = floor(i m / n), at least one edge each).
-    const int b0 = static_cast<int>(static_cast<long long>(i) * edges / n);
-    const int b1 = static_cast<int>(static_cast<long long>(i + 1) * edges / n);
-    std::vector<Vec3> w;
-    std::vector<double> fraction;
-    double total = 0.0;
-    for (int e = b0; e < b1; ++e) total += (points[e + 1] - points[e]).norm();
-    double acc = 0.0;
-    for (int p = b0 + 1; p <= b1; ++p) {
-      w.push_back(q.transpose() * (points[p] - r));
-      acc += (points[p] - points[p - 1]).norm();
-      fraction.push_back(acc / total);
+    const Vec3& omega = c.omega[static_cast<size_t>(i)];
+    const double l = c.length[static_cast<size_t>(i)];
+    for (int p = b[static_cast<size_t>(i)] + 1; p < b[static_cast<size_t>(i) + 1]; ++p) {
+      const double d2 =
+          (r + q * HelixChord(omega, c.sigma[static_cast<size_t>(p)] * l) - points[p]).squaredNorm();
+      cost += d2;
+      if (distances) (*distances)[static_cast<size_t>(p)] = std::sqrt(d2);
     }
-    const SegmentFit f = FitSegment(w, fraction, max_iterations);
-    fit->iterations += f.iterations;
-    fit->curvatures.segment<3>(3 * i) = f.omega;
-    fit->segment_lengths[static_cast<size_t>(i)] = f.length;
-    for (size_t j = 0; j < w.size(); ++j) {
-      const double d = (HelixChord(f.omega, f.u[j]) - w[j]).norm();
-      max_d = std::max(max_d, d);
-      sum_d2 += d * d;
-      fit->arc_lengths[static_cast<size_t>(b0) + 1 + j] = s + f.u[j];
-    }
-    const HelixSegment seg = EvaluateHelixSegment(f.omega, f.length);
+    const HelixSegment seg = EvaluateHelixSegment(omega, l);
     r += q * seg.chord;
     q = q * seg.rotation;
-    s += f.length;
+    const int end = b[static_cast<size_t>(i) + 1];
+    const double d2 = (r - points[static_cast<size_t>(end)]).squaredNorm();
+    cost += d2;
+    if (distances) (*distances)[static_cast<size_t>(end)] = std::sqrt(d2);
+  }
+  return cost;
+}
+
+// The linearization of one segment: the stage cost of (x, u, 1) is
+// [x; u; 1]^T (F - T / (1 + mu)) [x; u; 1], and each inner point's g = [C D e]^T t gives its
+// dsigma = -g . [x; u; 1] / (l (1 + mu)).
+struct Stage {
+  Mat11 f = Mat11::Zero();
+  Mat11 t = Mat11::Zero();
+  std::vector<Vec11> g;  // inner points, in order
+  Vec3 chord = Vec3::Zero();  // c_i (world)
+  Mat64 b = Mat64::Zero();
+  // Riccati gains of the last backward sweep.
+  Mat46 gain = Mat46::Zero();
+  Vec4 offset = Vec4::Zero();
+};
+
+// Adds a residual row block J = [C (3x6) | D (3x4) | e (3x1)] to the stage.
+void AddResidual(const Eigen::Matrix<double, 3, 11>& j, const Vec3* tangent, Stage* s) {
+  s->f.noalias() += j.transpose() * j;
+  if (tangent) {
+    const Vec11 g = j.transpose() * *tangent;
+    s->t.noalias() += g * g.transpose();
+    s->g.push_back(g);
+  }
+}
+
+void Linearize(const std::vector<Vec3>& points, const std::vector<int>& b, const Chain& c,
+               std::vector<Stage>* stages) {
+  const int n = static_cast<int>(c.omega.size());
+  stages->resize(static_cast<size_t>(n));
+  Mat3 q = c.root;
+  Vec3 r = points[0];
+  for (int i = 0; i < n; ++i) {
+    Stage& s = (*stages)[static_cast<size_t>(i)];
+    s.f.setZero();
+    s.t.setZero();
+    s.g.clear();
+    const Vec3& omega = c.omega[static_cast<size_t>(i)];
+    const double l = c.length[static_cast<size_t>(i)];
+    // One residual at arc length u: position r + Q p(u) - P, its derivatives.
+    auto row = [&](double u, double sigma, const Vec3& target, Vec3* tangent) {
+      const HelixFunctions h = EvaluateHelixFunctions(omega.norm() * u);
+      const Vec3 p = HelixChordFromFunctions(omega, u, h);
+      Mat3 dp;  // dp/dOmega (start frame), row by row
+      for (int k = 0; k < 3; ++k) dp.row(k) = HelixChordVjp(omega, u, h, Vec3::Unit(k)).transpose();
+      *tangent = q * HelixRotation(omega, u).col(2);
+      Eigen::Matrix<double, 3, 11> j;
+      j.block<3, 3>(0, 0).setIdentity();
+      j.block<3, 3>(0, 3) = -Hat(q * p);
+      j.block<3, 3>(0, 6) = q * dp;
+      j.col(9) = sigma * *tangent;
+      j.col(10) = r + q * p - target;
+      return j;
+    };
+    Vec3 tangent;
+    for (int p = b[static_cast<size_t>(i)] + 1; p < b[static_cast<size_t>(i) + 1]; ++p) {
+      const double sigma = c.sigma[static_cast<size_t>(p)];
+      const auto j = row(sigma * l, sigma, points[static_cast<size_t>(p)], &tangent);
+      AddResidual(j, &tangent, &s);
+    }
+    AddResidual(row(l, 1.0, points[static_cast<size_t>(b[static_cast<size_t>(i) + 1])], &tangent),
+                nullptr, &s);
+    // The chain: B_i.
+    const HelixSegment seg = EvaluateHelixSegment(omega, l);
+    const Mat3 q_end = q * seg.rotation;
+    Mat3 dp_end;
+    for (int k = 0; k < 3; ++k) {
+      dp_end.row(k) = HelixChordVjp(omega, l, seg.functions, Vec3::Unit(k)).transpose();
+    }
+    const Mat3 w = Hat(omega);
+    const Mat3 jr = l * Mat3::Identity() - (l * l * seg.functions.g[2]) * w +
+                    (l * l * l * seg.functions.g[3]) * w * w;
+    s.chord = q * seg.chord;
+    s.b.block<3, 3>(0, 0) = q * dp_end;
+    s.b.block<3, 1>(0, 3) = q_end.col(2);
+    s.b.block<3, 3>(3, 0) = q_end * jr;
+    s.b.block<3, 1>(3, 3) = q_end * omega;
+    r += s.chord;
+    q = q_end;
+  }
+}
+
+// A x for A = [I, -[c]x; 0, I].
+Vec6 ApplyA(const Vec3& c, const Vec6& x) {
+  Vec6 y = x;
+  y.head<3>() += x.tail<3>().cross(c);
+  return y;
+}
+
+// One damped Gauss-Newton step (mu: Marquardt's damping, relative to the diagonal). Returns the
+// trial chain; *step_size gets the largest relative change.
+Chain Step(const Chain& c, const std::vector<int>& b, std::vector<Stage>* stages, bool free_root,
+           double mu, double* step_size) {
+  const int n = static_cast<int>(c.omega.size());
+  const double weight = 1.0 / (1.0 + mu);
+  Mat6 pm = Mat6::Zero();
+  Vec6 qv = Vec6::Zero();
+  for (int i = n - 1; i >= 0; --i) {
+    Stage& s = (*stages)[static_cast<size_t>(i)];
+    const Mat11 lq = s.f - weight * s.t;
+    Mat6 a = Mat6::Identity();
+    a.block<3, 3>(0, 3) = -Hat(s.chord);
+    const Mat6 pa = pm * a;
+    const Mat6 hxx = lq.block<6, 6>(0, 0) + a.transpose() * pa;
+    const Mat46 hux = lq.block<4, 6>(6, 0) + s.b.transpose() * pa;
+    Mat4 huu = lq.block<4, 4>(6, 6) + s.b.transpose() * pm * s.b;
+    const Vec6 hx = lq.block<6, 1>(0, 10) + a.transpose() * qv;
+    const Vec4 hu = lq.block<4, 1>(6, 10) + s.b.transpose() * qv;
+    for (int d = 0; d < 4; ++d) huu(d, d) += mu * std::max(huu(d, d), 1e-300);
+    const Eigen::LDLT<Mat4> ldlt(huu);
+    s.gain = -ldlt.solve(hux);
+    s.offset = -ldlt.solve(hu);
+    pm = hxx + hux.transpose() * s.gain;
+    pm = 0.5 * (pm + pm.transpose()).eval();
+    qv = hx + hux.transpose() * s.offset;
+  }
+  Vec6 x = Vec6::Zero();
+  Chain trial = c;
+  double size = 0.0;
+  if (free_root) {
+    // x_0 = S z: the root tilts about n1 and n2 (a turn about t is a gauge: it turns every
+    // (kappa1, kappa2) with it and leaves the centreline).
+    Eigen::Matrix<double, 6, 2> sm = Eigen::Matrix<double, 6, 2>::Zero();
+    sm.block<3, 1>(3, 0) = c.root.col(0);
+    sm.block<3, 1>(3, 1) = c.root.col(1);
+    Eigen::Matrix2d hz = sm.transpose() * pm * sm;
+    const Eigen::Vector2d hzv = sm.transpose() * qv;
+    for (int d = 0; d < 2; ++d) hz(d, d) += mu * std::max(hz(d, d), 1e-300);
+    const Eigen::Vector2d z = -hz.ldlt().solve(hzv);
+    x = sm * z;
+    const Vec3 theta = x.tail<3>();
+    if (theta.norm() > 0.0) {
+      trial.root = Eigen::AngleAxisd(theta.norm(), theta.normalized()).toRotationMatrix() * c.root;
+    }
+    size = theta.norm();
+  }
+  for (int i = 0; i < n; ++i) {
+    const Stage& s = (*stages)[static_cast<size_t>(i)];
+    const Vec4 u = s.gain * x + s.offset;
+    const double l = c.length[static_cast<size_t>(i)];
+    Vec11 xu1;
+    xu1 << x, u, 1.0;
+    int j = 0;
+    for (int p = b[static_cast<size_t>(i)] + 1; p < b[static_cast<size_t>(i) + 1]; ++p, ++j) {
+      const double ds = -s.g[static_cast<size_t>(j)].dot(xu1) * weight / l;
+      trial.sigma[static_cast<size_t>(p)] += ds;
+      size = std::max(size, std::abs(ds));
+    }
+    trial.omega[static_cast<size_t>(i)] += u.head<3>();
+    trial.length[static_cast<size_t>(i)] += u(3);
+    size = std::max(size, u.head<3>().cwiseAbs().maxCoeff() * l);
+    size = std::max(size, std::abs(u(3)) / l);
+    x = ApplyA(s.chord, x) + s.b * u;
+  }
+  *step_size = size;
+  return trial;
+}
+
+// Levenberg-Marquardt on the whole chain from c; returns the iterations made.
+int RefineChain(const std::vector<Vec3>& points, const std::vector<int>& b, bool free_root,
+                int max_iterations, Chain* c) {
+  std::vector<Stage> stages;
+  double cost = ChainCost(points, b, *c, nullptr);
+  double mu = kInitialDamping;
+  int iterations = 0;
+  double scale = 0.0;
+  for (double l : c->length) scale += l;
+  // Rounding: the cost of distances of ~1e-15 L at every point.
+  const double floor = static_cast<double>(points.size()) * (1e-15 * scale) * (1e-15 * scale);
+  for (int it = 0; it < max_iterations && cost > floor; ++it) {
+    ++iterations;
+    Linearize(points, b, *c, &stages);
+    bool improved = false, tiny = false;
+    for (int attempt = 0; attempt < kMaxAttempts; ++attempt) {
+      double size = 0.0;
+      const Chain trial = Step(*c, b, &stages, free_root, mu, &size);
+      if (!(size > kStepTolerance)) {
+        tiny = true;
+        break;
+      }
+      bool valid = std::isfinite(size);
+      for (double l : trial.length) valid = valid && l > 0.0;
+      const double trial_cost = valid ? ChainCost(points, b, trial, nullptr) : 0.0;
+      if (valid && trial_cost < cost) {
+        const double decrease = cost - trial_cost;
+        *c = trial;
+        cost = trial_cost;
+        mu = std::max(mu * kDampingDown, kMinimumDamping);
+        improved = true;
+        // Converged when a step no longer changes the cost (relative): the noise floor of a
+        // polyline that is no piecewise helix, or rounding.
+        if (decrease <= kRelativeDecrease * (cost + decrease)) tiny = true;
+        break;
+      }
+      mu *= kDampingUp;
+    }
+    if (tiny || !improved) break;
+  }
+  return iterations;
+}
+
+// The root tangent of a polyline without a frame: the tangent at P0 of the circle through P0, P1,
+// P2 (exact for a circular arc, second order in the edge length for a smooth curve, where the
+// first edge's direction is only first order). An inversion about P0 maps that circle to the
+// line through a / |a|^2 and b / |b|^2 (a = P1 - P0, b = P2 - P0), parallel to the tangent at P0.
+// The first edge's direction when there are only 2 points or the points are degenerate.
+Vec3 RootTangent(const std::vector<Vec3>& points) {
+  const Vec3 a = points[1] - points[0];
+  if (points.size() < 3) return a.normalized();
+  const Vec3 b = points[2] - points[0];
+  const Vec3 t = a / a.squaredNorm() - b / b.squaredNorm();
+  if (!t.allFinite() || !(t.norm() > 0.0) || !(t.dot(a) > 0.0)) return a.normalized();
+  // A tangent more than 60 degrees from the first edge is no smooth curve's: keep the edge's.
+  const Vec3 u = t.normalized();
+  return u.dot(a.normalized()) > 0.5 ? u : Vec3(a.normalized());
+}
+
+// The fit of one segment alone from the frame (r, q) (FitSegment on the points of segment i in
+// that frame); fills the segment's unknowns in *chain.
+int GreedySegment(const std::vector<Vec3>& points, const std::vector<int>& b, int i, const Vec3& r,
+                  const Mat3& q, int max_iterations, Chain* chain) {
+  const int b0 = b[static_cast<size_t>(i)], b1 = b[static_cast<size_t>(i) + 1];
+  std::vector<Vec3> w;
+  std::vector<double> fraction;
+  double total = 0.0;
+  for (int e = b0; e < b1; ++e) total += (points[e + 1] - points[e]).norm();
+  double acc = 0.0;
+  for (int p = b0 + 1; p <= b1; ++p) {
+    w.push_back(q.transpose() * (points[p] - r));
+    acc += (points[p] - points[p - 1]).norm();
+    fraction.push_back(acc / total);
+  }
+  const SegmentFit f = FitSegment(w, fraction, max_iterations);
+  chain->omega[static_cast<size_t>(i)] = f.omega;
+  chain->length[static_cast<size_t>(i)] = f.length;
+  for (int p = b0 + 1; p < b1; ++p) {
+    chain->sigma[static_cast<size_t>(p)] = f.u[static_cast<size_t>(p - b0 - 1)] / f.length;
+  }
+  return f.iterations;
+}
+
+// The fit with n segments (1 <= n <= edges), root to tip with a look-ahead window, then the
+// global refinement (the root tangent free when no root frame was given).
+void FitWithSegments(const std::vector<Vec3>& points, const Mat3& root_frame, bool free_root,
+                     int n, const FitOptions& options, HelixFit* fit) {
+  const int edges = static_cast<int>(points.size()) - 1;
+  const std::vector<int> b = Boundaries(edges, n);
+  Chain chain;
+  chain.root = root_frame;
+  chain.omega.resize(static_cast<size_t>(n));
+  chain.length.resize(static_cast<size_t>(n));
+  chain.sigma.assign(points.size(), 1.0);
+  fit->iterations = 0;
+  int window = kWindow;
+  if (options.refine_iterations == 0) window = 1;
+  // Segments [i, i + window) are fitted together from the frame (r, q) at the start of segment
+  // i (the root's tilt free in the first window), then segment i is kept: its end tangent is
+  // fitted to the following segments' points too, so that the noise of one segment's points is
+  // not passed on to the next one as a wrong start tangent.
+  Mat3 q = root_frame;
+  Vec3 r = points[0];
+  int initialized = 0;  // segments [0, initialized) have initial values
+  for (int i = 0; i < n; ++i) {
+    const int last = std::min(i + window, n);
+    // Initial values of the segments entering the window: greedy from the window's end frame.
+    Mat3 qe = q;
+    Vec3 re = r;
+    for (int k = i; k < last; ++k) {
+      if (k >= initialized) {
+        fit->iterations += GreedySegment(points, b, k, re, qe, options.max_iterations, &chain);
+        initialized = k + 1;
+      }
+      const HelixSegment seg = EvaluateHelixSegment(chain.omega[static_cast<size_t>(k)],
+                                                    chain.length[static_cast<size_t>(k)]);
+      re += qe * seg.chord;
+      qe = qe * seg.rotation;
+    }
+    if (window > 1) {
+      const int p0 = b[static_cast<size_t>(i)];
+      std::vector<Vec3> sub_points(points.begin() + p0, points.begin() + b[static_cast<size_t>(last)] + 1);
+      sub_points[0] = r;
+      std::vector<int> sub_b;
+      Chain sub;
+      sub.root = q;
+      for (int k = i; k <= last; ++k) sub_b.push_back(b[static_cast<size_t>(k)] - p0);
+      for (int k = i; k < last; ++k) {
+        sub.omega.push_back(chain.omega[static_cast<size_t>(k)]);
+        sub.length.push_back(chain.length[static_cast<size_t>(k)]);
+      }
+      sub.sigma.assign(chain.sigma.begin() + p0, chain.sigma.begin() + b[static_cast<size_t>(last)] + 1);
+      fit->iterations +=
+          RefineChain(sub_points, sub_b, free_root && i == 0, options.refine_iterations, &sub);
+      for (int k = i; k < last; ++k) {
+        chain.omega[static_cast<size_t>(k)] = sub.omega[static_cast<size_t>(k - i)];
+        chain.length[static_cast<size_t>(k)] = sub.length[static_cast<size_t>(k - i)];
+      }
+      std::copy(sub.sigma.begin(), sub.sigma.end(), chain.sigma.begin() + p0);
+      if (i == 0) {
+        chain.root = sub.root;
+        q = sub.root;
+      }
+    }
+    const HelixSegment seg = EvaluateHelixSegment(chain.omega[static_cast<size_t>(i)],
+                                                  chain.length[static_cast<size_t>(i)]);
+    r += q * seg.chord;
+    q = q * seg.rotation;
+  }
+  if (options.refine_iterations > 0) {
+    fit->iterations += RefineChain(points, b, free_root, options.refine_iterations, &chain);
+  }
+  if (free_root) {
+    // Back to the n1 rule for the refined tangent: F = Q0 Rz with Rz a turn about e3; the same
+    // centreline has the frame Q Rz everywhere and the curvatures Rz^T Omega.
+    const Mat3 frame = DefaultRootFrame(chain.root.col(2), options.n1_axis);
+    const Mat3 rz = chain.root.transpose() * frame;
+    for (Vec3& omega : chain.omega) omega = rz.transpose() * omega;
+    chain.root = frame;
+  }
+  std::vector<double> distances;
+  ChainCost(points, b, chain, &distances);
+  fit->root_position = points[0];
+  fit->root_frame = chain.root;
+  fit->segment_lengths = chain.length;
+  fit->curvatures.resize(3 * n);
+  fit->arc_lengths.assign(points.size(), 0.0);
+  double s = 0.0, max_d = 0.0, sum_d2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double l = chain.length[static_cast<size_t>(i)];
+    fit->curvatures.segment<3>(3 * i) = chain.omega[static_cast<size_t>(i)];
+    for (int p = b[static_cast<size_t>(i)] + 1; p < b[static_cast<size_t>(i) + 1]; ++p) {
+      fit->arc_lengths[static_cast<size_t>(p)] = s + chain.sigma[static_cast<size_t>(p)] * l;
+    }
+    s += l;
+    fit->arc_lengths[static_cast<size_t>(b[static_cast<size_t>(i) + 1])] = s;
+  }
+  for (double d : distances) {
+    max_d = std::max(max_d, d);
+    sum_d2 += d * d;
   }
   fit->length = s;
   fit->max_distance = max_d;
@@ -222,6 +606,7 @@ bool FitOptions::IsValid(std::string* why) const {
     return Fail(why, "fit tolerance: expected a finite number > 0 (units of the strand length)");
   }
   if (max_iterations < 1) return Fail(why, "fit max_iterations: expected an integer >= 1");
+  if (refine_iterations < 0) return Fail(why, "fit refine_iterations: expected an integer >= 0");
   if (!n1_axis.allFinite() || !(n1_axis.norm() > 0.0)) {
     return Fail(why, "n1 axis: expected a finite non-zero vector");
   }
@@ -253,18 +638,46 @@ bool FitPiecewiseHelix(const std::vector<Vec3>& points, const Mat3* root_frame,
       return Fail(why, "root frame: expected a proper rotation (n1, n2, t)");
     }
   } else {
-    frame = DefaultRootFrame(points[1] - points[0], options.n1_axis);
+    frame = DefaultRootFrame(RootTangent(points), options.n1_axis);
   }
+  const bool free_root = root_frame == nullptr;
   const int edges = static_cast<int>(points.size()) - 1;
   if (options.segments > 0) {
-    FitWithSegments(points, frame, std::min(options.segments, edges), options.max_iterations, fit);
+    FitWithSegments(points, frame, free_root, std::min(options.segments, edges), options, fit);
     return true;
   }
   // The smallest n of 1, 2, 4, ... (capped at the edge count) meeting the tolerance.
   for (int n = 1;; n = std::min(2 * n, edges)) {
-    FitWithSegments(points, frame, n, options.max_iterations, fit);
+    FitWithSegments(points, frame, free_root, n, options, fit);
     if (fit->max_distance <= options.tolerance * polyline || n == edges) break;
   }
+  return true;
+}
+
+bool FitPiecewiseHelices(const std::vector<std::vector<Vec3>>& polylines,
+                         const FitOptions& options, int threads, std::vector<HelixFit>* fits,
+                         int* failed, std::string* why) {
+  const int total = static_cast<int>(polylines.size());
+  std::vector<HelixFit> out(polylines.size());
+  std::vector<std::string> reasons(polylines.size());
+  std::vector<char> ok(polylines.size(), 1);
+  // Each fit depends on its polyline alone, so any split gives the same fits.
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, total), [&](const tbb::blocked_range<int>& r) {
+      for (int i = r.begin(); i < r.end(); ++i) {
+        const size_t k = static_cast<size_t>(i);
+        ok[k] = FitPiecewiseHelix(polylines[k], nullptr, options, &out[k], &reasons[k]) ? 1 : 0;
+      }
+    });
+  });
+  for (size_t k = 0; k < polylines.size(); ++k) {
+    if (!ok[k]) {
+      if (failed) *failed = static_cast<int>(k);
+      return Fail(why, reasons[k]);
+    }
+  }
+  *fits = std::move(out);
   return true;
 }
 
