@@ -66,11 +66,12 @@ double ColumnError(const Image& out, const Image& clean, int x) {
   return sum / kSize;
 }
 
-// The same 5-level a-trous B3 footprint without edge stopping: what the guides prevent.
+// The same a-trous B3 footprint (DenoiseOptions' iterations) without edge stopping: what the
+// guides prevent.
 Image PlainBlur(const Image& in) {
   const float k[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
   Image a = in;
-  for (int level = 0; level < 5; ++level) {
+  for (int level = 0; level < DenoiseOptions().iterations; ++level) {
     Image b = a;
     const int step = 1 << level;
     for (int y = 0; y < kSize; ++y) {
@@ -107,11 +108,11 @@ TEST(DenoiseTest, ReducesTheErrorAndKeepsAnAlbedoStep) {
   std::printf("albedo step: RMSE %.4f -> %.4f (factor %.1f)\n", before, after, before / after);
   EXPECT_GT(before / after, 4.0);
   // The columns next to the step keep their side's value: within 5 % on average, where the plain
-  // blur is off by more than 30 % (anti-vacuity: the step would be smeared without the guides).
+  // blur is off by more than 20 % (anti-vacuity: the step would be smeared without the guides).
   const Image blur = PlainBlur(s.noisy);
   for (int x : {kSize / 2 - 1, kSize / 2}) {
     EXPECT_LT(ColumnError(out, s.clean, x), 0.05) << "column " << x;
-    EXPECT_GT(ColumnError(blur, s.clean, x), 0.30) << "column " << x;
+    EXPECT_GT(ColumnError(blur, s.clean, x), 0.20) << "column " << x;
   }
 }
 
@@ -130,7 +131,7 @@ TEST(DenoiseTest, KeepsANormalStep) {
   const Image blur = PlainBlur(s.noisy);
   for (int x : {kSize / 2 - 1, kSize / 2}) {
     EXPECT_LT(ColumnError(out, s.clean, x), 0.05) << "column " << x;
-    EXPECT_GT(ColumnError(blur, s.clean, x), 0.30) << "column " << x;
+    EXPECT_GT(ColumnError(blur, s.clean, x), 0.20) << "column " << x;
   }
 }
 

@@ -18,8 +18,9 @@ namespace ringlet {
 struct DenoiseGuides {
   int width = 0;
   int height = 0;
-  /// Reflectance of the first hit per channel, in [0, 1] (the body's albedo; a fibre's
-  /// directional albedo FibreScattering::Albedo); 0 where the camera sees the background.
+  /// Reflectance of the first hit per channel, in [0, 1] (the body's albedo; for a fibre the
+  /// renderer gives its directional albedo FibreScattering::Albedo at normal incidence through
+  /// the axis, one colour per strand); 0 where the camera sees the background.
   std::vector<Eigen::Vector3f> albedo;
   /// Unit body normal facing the camera or fibre tangent (root to tip) of the first hit, world
   /// coordinates, averaged (so shorter than 1 where a pixel sees several); 0 for the background.
@@ -44,11 +45,14 @@ struct DenoiseGuides {
 /// demodulation), so texture and the hair/skin boundary are kept by the guides, not blurred.
 /// The variance is filtered alongside with the squared weights (SVGF eq. 3's propagation).
 struct DenoiseOptions {
-  int iterations = 5;              ///< a-trous levels, steps 1, 2, 4, ...; in [1, 10]
-  double sigma_luminance = 4.0;    ///< > 0 (SVGF's value)
-  double normal_power = 32.0;      ///< >= 0 (SVGF uses 128 for meshes; fibres' tangents vary more)
-  double sigma_albedo = 0.1;       ///< > 0 (reflectance units)
-  double sigma_depth = 0.05;       ///< > 0 (fraction of the depth)
+  // Defaults chosen on the main job (docs/rendering.md, "Noise"): among 17 settings, the one
+  // with the least error E|d(x1) - x2|^2 of the denoised render of one seed against the raw
+  // render of another (an unbiased ranking of the denoised image's mean squared error).
+  int iterations = 4;              ///< a-trous levels, steps 1, 2, 4, ...; in [1, 10]
+  double sigma_luminance = 2.0;    ///< > 0 (SVGF uses 4)
+  double normal_power = 4.0;       ///< >= 0 (SVGF uses 128 for meshes; fibres' tangents vary)
+  double sigma_albedo = 0.3;       ///< > 0 (reflectance units)
+  double sigma_depth = 0.5;        ///< > 0 (fraction of the depth)
 
   /// Checks every field; says which field and what was expected.
   bool IsValid(std::string* why) const;

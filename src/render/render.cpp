@@ -86,6 +86,13 @@ struct Context {
   const RenderOptions* options;
   Lights lights;
   PinholeCamera camera;
+  // The denoiser's albedo guide of a fibre hit: the fibre's directional albedo seen at normal
+  // incidence through its axis (h = 0, theta_o = 0), dry and wet, blended by the strand's
+  // wetness. One colour per strand rather than per hit: the guide should say which surface a
+  // pixel sees (hair of this colour), not carry the lobes' dependence on where in the fibre a
+  // sample landed, which would be noise in the guide (and would cost a lobe setup per sample).
+  Rgb fibre_albedo_dry = Rgb::Zero();
+  Rgb fibre_albedo_wet = Rgb::Zero();
 };
 
 // A scattering vertex: a fibre or the Lambertian body, with where rays leave from.
@@ -218,7 +225,8 @@ Rgb TraceSample(const Context& c, const Vec3& org, Vec3 dir, PixelSampler* sampl
     if (bounce == 0) {
       first->depth = hit.t;
       if (v.fibre) {
-        first->albedo = c.fibre->Albedo(v.wo_local, v.frame.hit);
+        const double w = v.frame.hit.wetness;
+        first->albedo = (1.0 - w) * c.fibre_albedo_dry + w * c.fibre_albedo_wet;
         first->normal = v.frame.x;
       } else {
         first->albedo = c.render_scene->body_albedo;
@@ -438,6 +446,12 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
   c.options = &options;
   c.fibre = scene.hair != nullptr ? scene.fibre.get() : nullptr;
   c.lights = MakeLights(scene);
+  if (c.fibre != nullptr && options.denoise) {
+    FibreHit axis;  // h = 0, dry
+    c.fibre_albedo_dry = c.fibre->Albedo(Vec3::UnitZ(), axis);
+    axis.wetness = 1.0;
+    c.fibre_albedo_wet = c.fibre->Albedo(Vec3::UnitZ(), axis);
+  }
 
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   std::unique_ptr<EmbreeScene> embree;
