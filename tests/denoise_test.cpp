@@ -57,13 +57,15 @@ double Rmse(const Image& a, const Image& b) {
   return std::sqrt(sum / (3.0 * a.pixels.size()));
 }
 
-// Mean over rows of |out - clean| / clean in column x (first channel).
-double ColumnError(const Image& out, const Image& clean, int x) {
+// Mean over the rows of (out - clean) / clean in column x (first channel): the systematic error
+// that bleeding across an edge leaves (the residual noise, ~7 % per pixel after denoising,
+// averages out over the 64 rows to ~1 %).
+double ColumnBias(const Image& out, const Image& clean, int x) {
   double sum = 0.0;
   for (int y = 0; y < kSize; ++y) {
-    sum += std::abs(out.At(x, y).x() - clean.At(x, y).x()) / clean.At(x, y).x();
+    sum += (out.At(x, y).x() - clean.At(x, y).x()) / clean.At(x, y).x();
   }
-  return sum / kSize;
+  return std::abs(sum / kSize);
 }
 
 // The same a-trous B3 footprint (DenoiseOptions' iterations) without edge stopping: what the
@@ -107,12 +109,13 @@ TEST(DenoiseTest, ReducesTheErrorAndKeepsAnAlbedoStep) {
   const double before = Rmse(s.noisy, s.clean), after = Rmse(out, s.clean);
   std::printf("albedo step: RMSE %.4f -> %.4f (factor %.1f)\n", before, after, before / after);
   EXPECT_GT(before / after, 4.0);
-  // The columns next to the step keep their side's value: within 5 % on average, where the plain
-  // blur is off by more than 20 % (anti-vacuity: the step would be smeared without the guides).
+  // The columns next to the step keep their side's value: biased by less than 3 % on average,
+  // where the plain blur is off by more than 20 % (anti-vacuity: the step would be smeared
+  // without the guides).
   const Image blur = PlainBlur(s.noisy);
   for (int x : {kSize / 2 - 1, kSize / 2}) {
-    EXPECT_LT(ColumnError(out, s.clean, x), 0.05) << "column " << x;
-    EXPECT_GT(ColumnError(blur, s.clean, x), 0.20) << "column " << x;
+    EXPECT_LT(ColumnBias(out, s.clean, x), 0.03) << "column " << x;
+    EXPECT_GT(ColumnBias(blur, s.clean, x), 0.20) << "column " << x;
   }
 }
 
@@ -130,8 +133,8 @@ TEST(DenoiseTest, KeepsANormalStep) {
   EXPECT_GT(before / after, 4.0);
   const Image blur = PlainBlur(s.noisy);
   for (int x : {kSize / 2 - 1, kSize / 2}) {
-    EXPECT_LT(ColumnError(out, s.clean, x), 0.05) << "column " << x;
-    EXPECT_GT(ColumnError(blur, s.clean, x), 0.20) << "column " << x;
+    EXPECT_LT(ColumnBias(out, s.clean, x), 0.03) << "column " << x;
+    EXPECT_GT(ColumnBias(blur, s.clean, x), 0.20) << "column " << x;
   }
 }
 

@@ -485,18 +485,18 @@ TEST(RenderTest, DeterministicForAnyThreadCount) {
 }
 
 // The firefly clamp (RenderOptions::clamp) bounds every indirect contribution and leaves direct
-// light alone. With one camera sample per pixel, a path of max_bounces = 4 adds at most two
-// contributions per bounce after the first (the lights seen from the vertex, and the bounce ray
-// escaping): each pixel is at most its direct-only value (max_bounces = 0, same sample numbers
-// for the first vertex) plus 2 x 4 x clamp per channel. A clamp of 1e-12 gives the direct-only
+// light alone. A path of max_bounces = 4 adds at most two contributions per bounce after the
+// first (the lights seen from the vertex, and the bounce ray escaping): each sample, and so each
+// pixel's mean, is at most its direct-only value (max_bounces = 0, the same sample numbers for
+// the first vertex) plus 2 x 4 x clamp per channel. A clamp of 1e-12 gives the direct-only
 // image (to 1e-9), a clamp of 1e30 the unclamped one bit for bit, and an active clamp darkens
 // the furnace (its bias: the image mean drops below the unclamped one).
 TEST(RenderTest, ClampBoundsIndirectContributions) {
   FurnaceScene furnace(1.0);
   RenderOptions options;
-  options.width = 32;
-  options.height = 32;
-  options.samples_per_pixel = 1;
+  options.width = 64;
+  options.height = 64;
+  options.samples_per_pixel = 4;
   options.threads = 2;
   options.max_bounces = 0;
   Image direct, unclamped, huge, tiny, clamped;
@@ -523,8 +523,9 @@ TEST(RenderTest, ClampBoundsIndirectContributions) {
     mean_unclamped += unclamped.pixels[i].mean() / direct.pixels.size();
     mean_clamped += clamped.pixels[i].mean() / direct.pixels.size();
   }
-  // Anti-vacuity: many pixels get indirect light (the fibres and the body see each other).
-  EXPECT_GT(indirect, 100);
+  // Anti-vacuity: many pixels get indirect light (the fibres and the body see each other; 11
+  // of 32 x 32 pixels at 1 spp, so about 150 expected here).
+  EXPECT_GT(indirect, 60);
   EXPECT_LT(mean_clamped, mean_unclamped);
   std::printf("clamp %.2f: furnace mean %.4f (unclamped %.4f), %d pixels with indirect light\n",
               kClamp, mean_clamped, mean_unclamped, indirect);
