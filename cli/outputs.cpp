@@ -70,6 +70,14 @@ void AddOutputOptions(CLI::App* app, OutputOptions* options, const std::string& 
       ->check(CLI::Range(1, 16384));
   app->add_option("--height", options->height, "With --render: image height in pixels")
       ->check(CLI::Range(1, 16384));
+  app->add_flag_function(
+      "--denoise,!--no-denoise",
+      [options](std::int64_t count) { options->denoise = count > 0 ? 1 : 0; },
+      "With --render: denoise the image (default: the file's, on) or not (--no-denoise: the "
+      "unbiased estimate, docs/rendering.md)");
+  app->add_option("--clamp", options->clamp,
+                  "With --render: firefly clamp of indirect light (radiance; 0 = off, unbiased)")
+      ->check(CLI::Range(0.0, 1e30));
 }
 
 bool CheckOutputOptions(const OutputOptions& options, std::set<std::string>* formats,
@@ -95,10 +103,14 @@ bool CheckOutputOptions(const OutputOptions& options, std::set<std::string>* for
     *error = "--formats: expected at least one of " + valid;
     return false;
   }
-  if (!options.render && (options.spp || options.width || options.height)) {
-    *error = std::string(options.spp     ? "--spp"
-                         : options.width ? "--width"
-                                         : "--height") +
+  if (!options.render && (options.spp || options.width || options.height ||
+                          options.denoise >= 0 || options.clamp >= 0.0)) {
+    *error = std::string(options.spp             ? "--spp"
+                         : options.width         ? "--width"
+                         : options.height        ? "--height"
+                         : options.denoise == 1  ? "--denoise"
+                         : options.denoise == 0  ? "--no-denoise"
+                                                 : "--clamp") +
              ": only with --render";
     return false;
   }
@@ -114,6 +126,8 @@ void ApplyRenderOverrides(const OutputOptions& options, RenderSettings* settings
   if (options.spp) settings->options.samples_per_pixel = options.spp;
   if (options.width) settings->options.width = options.width;
   if (options.height) settings->options.height = options.height;
+  if (options.denoise >= 0) settings->options.denoise = options.denoise == 1;
+  if (options.clamp >= 0.0) settings->options.clamp = options.clamp;
 }
 
 std::vector<std::string> StrandOutputNames(const std::set<std::string>& formats) {

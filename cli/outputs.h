@@ -63,15 +63,17 @@ struct OutputOptions {
   int spp = 0;                                ///< --spp, --width, --height: 0 = the file's
   int width = 0;
   int height = 0;
+  int denoise = -1;       ///< --denoise (1) / --no-denoise (0); -1 = the file's
+  double clamp = -1.0;    ///< --clamp; < 0 = the file's
 };
 
-/// Registers --formats, --hair-units-per-metre, --force, --render, --spp, --width and --height
-/// on app; `what` names what --render draws ("the groom", "the styled hair").
+/// Registers --formats, --hair-units-per-metre, --force, --render, --spp, --width, --height,
+/// --denoise / --no-denoise and --clamp on app; `what` names what --render draws ("the groom", "the styled hair").
 void AddOutputOptions(CLI::App* app, OutputOptions* options, const std::string& what);
 
 /// Checks the options before any work: the format names ("hair,usda" -> {"hair", "usda"};
 /// unknown names are an error naming the valid ones), the .hair unit, and --spp, --width,
-/// --height only with --render. On failure *error gets one line naming the option.
+/// --height, --(no-)denoise, --clamp only with --render. On failure *error gets one line naming the option.
 bool CheckOutputOptions(const OutputOptions& options, std::set<std::string>* formats,
                         HairFileOptions* hair_options, std::string* error);
 

@@ -39,6 +39,9 @@ struct RenderArgs {
   std::uint64_t seed = 0;
   double eumelanin = 0.0, pheomelanin = 0.0, exposure = 0.0, eccentricity = 0.0;
   double hair_units_per_metre = 1.0;
+  double clamp = 0.0;
+  std::string sampler;
+  int denoise = -1;  // --denoise 1, --no-denoise 0, -1 = the settings'
   int threads = 0;
   bool force = false;
   bool quiet = false;
@@ -46,7 +49,8 @@ struct RenderArgs {
   CLI::Option *width_option = nullptr, *height_option = nullptr, *spp_option = nullptr,
               *seed_option = nullptr, *bounces_option = nullptr, *shadows_option = nullptr,
               *eumelanin_option = nullptr, *pheomelanin_option = nullptr,
-              *exposure_option = nullptr, *view_option = nullptr, *eccentricity_option = nullptr;
+              *exposure_option = nullptr, *view_option = nullptr, *eccentricity_option = nullptr,
+              *clamp_option = nullptr, *sampler_option = nullptr;
 };
 
 // "X,Y,Z" -> a non-zero vector of finite numbers.
@@ -85,6 +89,9 @@ bool ApplyOverrides(const RenderArgs& args, RenderSettings* s, std::string* erro
   if (args.eumelanin_option->count()) s->eumelanin = args.eumelanin;
   if (args.pheomelanin_option->count()) s->pheomelanin = args.pheomelanin;
   if (args.exposure_option->count()) s->exposure = args.exposure;
+  if (args.clamp_option->count()) s->options.clamp = args.clamp;
+  if (args.sampler_option->count()) ParseSamplePattern(args.sampler, &s->options.pattern);
+  if (args.denoise >= 0) s->options.denoise = args.denoise == 1;
   if (args.view_option->count()) {
     Vec3 view;
     if (!ParseView(args.view, &view)) {
@@ -270,6 +277,20 @@ Command AddRenderCommand(CLI::App* parent) {
   args->exposure_option =
       app->add_option("--exposure", args->exposure, "Linear scale of radiance before sRGB")
           ->check(CLI::PositiveNumber);
+  args->clamp_option =
+      app->add_option("--clamp", args->clamp,
+                      "Firefly clamp of indirect light (radiance; 0 = off, unbiased; default " +
+                          std::to_string(kDefaultClamp).substr(0, 3) + ")")
+          ->check(CLI::Range(0.0, 1e30));
+  args->sampler_option =
+      app->add_option("--sampler", args->sampler,
+                      "sobol (default, stratified) or independent (random numbers)")
+          ->check(CLI::IsMember({"sobol", "independent"}));
+  app->add_flag_function(
+      "--denoise,!--no-denoise",
+      [args](std::int64_t count) { args->denoise = count > 0 ? 1 : 0; },
+      "Denoise the image (the default) or not (--no-denoise: the unbiased estimate with "
+      "--clamp 0)");
   args->view_option = app->add_option(
       "--view", args->view,
       "Framed camera looking along X,Y,Z (from the camera toward the scene; z up, face +y)");

@@ -81,11 +81,14 @@ bool WriteJobImage(const std::string& path, const Image& image, double exposure,
 
 void PrintRenderSummary(const Image& image, int samples_per_pixel, const RenderStats& stats,
                         const std::string& path) {
+  const std::string denoised =
+      stats.denoise_seconds > 0.0 ? "denoised in " + FormatSeconds(stats.denoise_seconds) + ", "
+                                  : std::string();
   std::printf("rendered %d x %d at %d spp in %s: %lld rays (%lld camera), %lld NaN samples, "
-              "%d hair segments, %d body primitives -> %s\n",
+              "%s%d hair segments, %d body primitives -> %s\n",
               image.width, image.height, samples_per_pixel, FormatSeconds(stats.seconds).c_str(),
               static_cast<long long>(stats.rays), static_cast<long long>(stats.camera_rays),
-              static_cast<long long>(stats.nan_samples), stats.hair_segments,
+              static_cast<long long>(stats.nan_samples), denoised.c_str(), stats.hair_segments,
               stats.body_primitives, path.c_str());
   std::fflush(stdout);
 }

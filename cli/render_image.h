@@ -48,7 +48,8 @@ bool RenderJobImage(const RenderJob& job, Image* image, RenderStats* stats, std:
 bool WriteJobImage(const std::string& path, const Image& image, double exposure, bool force,
                    std::string* error);
 
-/// "rendered 64 x 64 at 2 spp in 1.23 s: 123,456 rays, 0 NaN samples -> out.png" on stdout.
+/// "rendered 64 x 64 at 2 spp in 1.23 s: 123,456 rays, 0 NaN samples, denoised in 0.01 s, ...
+/// -> out.png" on stdout (the denoising time only when the image was denoised).
 void PrintRenderSummary(const Image& image, int samples_per_pixel, const RenderStats& stats,
                         const std::string& path);
 

@@ -333,6 +333,7 @@ bool StartRender(App* app) {
     bool ok = MakeRenderScene(settings, hair->strands.get(), style.body,
                               HairTypeEccentricity(style.hair_type), style.seed, &scene, &error);
     RenderStats stats;
+    Image final_image;
     if (ok) {
       scene.camera = camera;
       RenderOptions options = settings.options;
@@ -347,12 +348,16 @@ bool StartRender(App* app) {
         r.samples = samples;
         r.dirty = true;
       };
-      Image final_image;
       ok = Render(scene, options, &final_image, &stats, &error);
     }
     {
       std::lock_guard<std::mutex> lock(r.mutex);
-      if (ok) r.seconds = stats.seconds;
+      if (ok) {
+        // The final image: the last pass, denoised when the settings ask for it (render.h).
+        r.image = std::move(final_image);
+        r.dirty = true;
+        r.seconds = stats.seconds;
+      }
       if (!ok && error != "cancelled") r.error = "render: " + error;
     }
     r.running = false;

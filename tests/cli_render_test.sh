@@ -98,6 +98,8 @@ bad_render "--view two numbers" "--view" "$TINY" --view 1,2
 bad_render "--view zero" "--view" "$TINY" --view 0,0,0
 bad_render "--view text" "--view" "$TINY" --view a,b,c
 bad_render "--threads -1" "--threads" "$TINY" --threads -1
+bad_render "--clamp -1" "--clamp" "$TINY" --clamp=-1
+bad_render "--sampler unknown" "--sampler" "$TINY" --sampler halton
 bad_render "unknown option" "--frobnicate" "$TINY" --frobnicate
 bad_render "--body with a hairstyle" "--body" "$TINY" --body "$work/styles/bodies/mannequin.json"
 bad_render "missing --settings file" "no_such_settings.json" "$TINY" --settings \
@@ -114,6 +116,8 @@ bad_style fov 'render.camera.fov_degrees' '"camera": {"fov_degrees": 0}'
 bad_style eccentricity 'render.hair.eccentricity: not a render setting' \
   '"hair": {"eccentricity": 0.5}'
 bad_style typo 'render.exposre: unknown field (did you mean "exposure"?)' '"exposre": 2'
+bad_style clamp 'render.clamp: expected a finite number >= 0' '"clamp": -2'
+bad_style denoise 'render.denoise: expected true or false' '"denoise": "yes"'
 # ... also for `groom`, with or without --render (the file is checked as a whole).
 run groom "$work/styles/seed.json" -o "$work/never"
 expect_rc "groom with bad render settings" 1
@@ -127,6 +131,10 @@ run groom "$TINY" -o "$work/never" --spp 4
 expect_rc "groom --spp without --render" 1
 expect_one_error_line "groom --spp without --render" "--spp: only with --render"
 [ -e "$work/never" ] && fail "groom --spp without --render created $work/never" || ok
+run groom "$TINY" -o "$work/never" --no-denoise
+expect_rc "groom --no-denoise without --render" 1
+expect_one_error_line "groom --no-denoise without --render" "--no-denoise: only with --render"
+[ -e "$work/never" ] && fail "groom --no-denoise without --render created $work/never" || ok
 
 # The output must be a .png file name, and not an existing file (without --force) or directory.
 run render "$TINY" -o "$work/out/image.jpg"
@@ -151,7 +159,8 @@ expect_files "bad outputs" "$work/out" existing.png dir.png
 run render --help
 expect_rc "render --help" 0
 for option in --output --width --height --spp --seed --threads --shadows --eumelanin \
-  --pheomelanin --exposure --view --body --eccentricity --force --quiet; do
+  --pheomelanin --exposure --view --body --eccentricity --force --quiet --clamp --sampler \
+  --no-denoise; do
   grep -q -- "$option" "$work/stdout" && ok || fail "render --help does not mention $option"
 done
 run groom --help
@@ -186,6 +195,12 @@ run render "$TINY" -o "$work/out/fast.png" --shadows fibre_transmittance --eumel
   --pheomelanin 0 --exposure 2 --view=-1,0,0 --eccentricity 0.5 --quiet
 expect_rc "all overrides" 0
 expect_png "all overrides" "$work/out/fast.png" 64x48
+# The unbiased estimate (no denoiser, no clamp, independent samples) is another image.
+run render "$TINY" -o "$work/out/raw.png" --width 40 --height 30 --spp 1 --no-denoise --clamp 0 \
+  --sampler independent --quiet
+expect_rc "--no-denoise --clamp 0 --sampler independent" 0
+expect_png "--no-denoise" "$work/out/raw.png" 40x30
+cmp -s "$work/out/t1.png" "$work/out/raw.png" && fail "--no-denoise gave the default image" || ok
 
 # --force replaces an existing image.
 run render "$TINY" -o "$work/out/existing.png" --force --quiet

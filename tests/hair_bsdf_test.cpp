@@ -783,5 +783,118 @@ TEST(HairBsdf, EllipticEtaMovesTheTrtCausticLikeARayTracedEllipse) {
   }
 }
 
+
+// ---------------------------------------------------------------------------------------------
+// Wet fibres: a water film between air and keratin.
+
+/// Fresnel reflectances (R_s, R_p) from n1 into n2 at incidence angle i (Hecht, Optics, eqs.
+/// 4.42-4.43: sin^2(i - t) / sin^2(i + t) and tan^2(i - t) / tan^2(i + t)).
+std::pair<double, double> HechtRsRp(double i, double n1, double n2) {
+  const double t = std::asin(n1 / n2 * std::sin(i));
+  if (i < 1e-9) {
+    const double r = std::pow((n1 - n2) / (n1 + n2), 2);
+    return {r, r};
+  }
+  return {std::pow(std::sin(i - t) / std::sin(i + t), 2),
+          std::pow(std::tan(i - t) / std::tan(i + t), 2)};
+}
+
+/// The film stack's reflectance written here from the two interfaces: per polarization the
+/// geometric series of incoherent reflections inside the film, R1 + T1^2 R2 sum (R1 R2)^k =
+/// R1 + (1 - R1)^2 R2 / (1 - R1 R2), then the polarizations averaged.
+double FilmReflectance(double incidence, double n_water, double n_fibre) {
+  const auto [rs1, rp1] = HechtRsRp(incidence, 1.0, n_water);
+  const double in_water = std::asin(std::sin(incidence) / n_water);
+  const auto [rs2, rp2] = HechtRsRp(in_water, n_water, n_fibre);
+  const double rs = rs1 + (1 - rs1) * (1 - rs1) * rs2 / (1 - rs1 * rs2);
+  const double rp = rp1 + (1 - rp1) * (1 - rp1) * rp2 / (1 - rp1 * rp2);
+  return 0.5 * (rs + rp);
+}
+
+TEST(HairBsdf, WetFibreRLobeDropsByTheFilmFresnelRatio) {
+  // With strong absorption (sigma_a = 1e4 per radius) only the R lobe is left: f = M_R A_R N_R,
+  // and M_R N_R do not depend on water, so f_wet / f_dry = R_film / F_dry exactly. At normal
+  // incidence (theta_o = 0, h = 0): F_dry = ((1.55 - 1)/2.55)^2 = 0.046521, R1 = (0.333/2.333)^2
+  // = 0.020373, R2 = (0.217/2.883)^2 = 0.005665, R_film = 0.025811: ratio 0.5548. At oblique
+  // incidence the per-polarization sums are compared with FilmReflectance above.
+  HairOptics dry_optics = Optics(0.3, 0.3, Rgb::Constant(1e4));
+  const HairBsdf bsdf(dry_optics);
+  EXPECT_NEAR(FilmReflectance(0.0, 1.333, 1.55) / HechtFresnel(1.0, 1.0, 1.55), 0.5548, 1e-4);
+  for (double theta_o : {0.0, 30.0, -55.0}) {
+    for (double h : {0.0, 0.5, -0.8}) {
+      const Vec3 wo = Wo(theta_o * kDeg);
+      // wi near the R lobe's peak: mirrored theta, azimuth phi_o + Phi(0, h) = pi/2 - 2 gamma_o.
+      const Vec3 wi = Dir(-theta_o * kDeg + 0.07, 0.5 * kPi - 2.0 * std::asin(h));
+      FibreHit dry{h, 0.0};
+      FibreHit wet{h, 0.0};
+      wet.wetness = 1.0;
+      const Rgb f_dry = bsdf.Eval(wo, wi, dry);
+      const Rgb f_wet = bsdf.Eval(wo, wi, wet);
+      ASSERT_GT(f_dry.x(), 1e-3) << theta_o << " " << h;
+      const double cos_i = std::cos(theta_o * kDeg) * std::sqrt(1.0 - h * h);
+      const double incidence = std::acos(cos_i);
+      const double expected =
+          FilmReflectance(incidence, 1.333, 1.55) / HechtFresnel(cos_i, 1.0, 1.55);
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(f_wet[c] / f_dry[c], expected, 1e-9) << theta_o << " " << h;
+      }
+      EXPECT_LT(expected, 0.8);  // 0.555 at normal incidence, 0.77 at 70 degrees
+      // Half wet: the area-weighted mix of the two.
+      FibreHit half{h, 0.0};
+      half.wetness = 0.5;
+      EXPECT_NEAR(bsdf.Eval(wo, wi, half).x(), 0.5 * (f_dry.x() + f_wet.x()), 1e-12 * f_dry.x());
+    }
+  }
+}
+
+TEST(HairBsdf, WetFibreConservesEnergyAndAbsorbsMore) {
+  // White furnace with the film (sigma_a = 0): the integral of f is 1 (the stack is lossless,
+  // the lobes' series closes as for a dry fibre). With absorption the integral is the closed
+  // form of FurnaceChiangWithAbsorptionIsTheSumOfAttenuations with f = R_film: more light
+  // enters the cortex (R_film < F_dry), so more is absorbed than by the dry fibre.
+  const Rgb sigma_a(0.2, 0.6, 1.5);
+  const double eta = 1.55;
+  for (double wetness : {1.0, 0.4}) {
+    const HairBsdf white(Optics(0.4, 0.4));
+    const HairBsdf brown(Optics(0.4, 0.4, sigma_a));
+    for (double theta_o : {-60.0, 10.0, 70.0}) {
+      for (double h : {-0.5, 0.3, 0.95}) {
+        const double t_o = theta_o * kDeg;
+        const Vec3 wo = Wo(t_o);
+        FibreHit hit{h, 0.0};
+        hit.wetness = wetness;
+        const Rgb e_white = SphereIntegral([&](const Vec3& wi) { return white.Eval(wo, wi, hit); },
+                                           160, 256);
+        const Rgb e = SphereIntegral([&](const Vec3& wi) { return brown.Eval(wo, wi, hit); },
+                                     160, 256);
+        const Rgb e_dry = SphereIntegral(
+            [&](const Vec3& wi) { return brown.Eval(wo, wi, FibreHit{h, 0.0}); }, 160, 256);
+        const double cos_i = std::cos(t_o) * std::sqrt(1 - h * h);
+        const double f_dry = HechtFresnel(cos_i, 1.0, eta);
+        const double f_wet = FilmReflectance(std::acos(cos_i), 1.333, eta);
+        const double eta_perp = std::sqrt(eta * eta - std::pow(std::sin(t_o), 2)) / std::cos(t_o);
+        const double cos_gt = std::sqrt(1 - h * h / (eta_perp * eta_perp));
+        const double cos_tt = std::sqrt(1 - std::pow(std::sin(t_o) / eta, 2));
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_NEAR(e_white[c], 1.0, 1e-4) << wetness << " " << theta_o << " " << h;
+          const double t = std::exp(-sigma_a[c] * 2 * cos_gt / cos_tt);
+          auto total = [t](double f) {
+            return f + (1 - f) * (1 - f) * t * (1 + f * t + f * f * t * t / (1 - f * t));
+          };
+          const double expected = (1 - wetness) * total(f_dry) + wetness * total(f_wet);
+          EXPECT_NEAR(e[c], expected, 1e-4) << wetness << " " << theta_o << " " << h;
+          EXPECT_LT(e[c], e_dry[c]) << wetness << " " << theta_o << " " << h;
+        }
+      }
+    }
+  }
+}
+
+TEST(HairBsdf, WaterEtaIsChecked) {
+  HairOptics optics;
+  optics.water_eta = 1.0;
+  EXPECT_NE(CheckHairOptics(optics).find("water_eta"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace ringlet

@@ -51,6 +51,14 @@ TEST(RenderJson, Defaults) {
   EXPECT_EQ(s.options.seed, 1u);
   EXPECT_EQ(s.options.max_bounces, 16);
   EXPECT_EQ(s.options.shadows, ShadowMode::kPathTraced);
+  // Clean pictures by default (docs/rendering.md, "Noise"): stratified samples, the firefly
+  // clamp and the denoiser; RenderOptions itself defaults to the unbiased estimate.
+  EXPECT_EQ(s.options.pattern, SamplePattern::kSobol);
+  EXPECT_EQ(s.options.clamp, kDefaultClamp);
+  EXPECT_TRUE(s.options.denoise);
+  EXPECT_EQ(RenderOptions().clamp, 0.0);
+  EXPECT_FALSE(RenderOptions().denoise);
+  EXPECT_EQ(s.optics.water_eta, 1.333);
   // A framed camera from the front (+y, the face), the right (+x) and above (+z): the view
   // direction points from the camera toward the head, so each component is negative.
   EXPECT_EQ(s.camera.kind, CameraSettings::Kind::kFramed);
@@ -80,13 +88,18 @@ TEST(RenderJson, EveryField) {
   const RenderSettings s = MustParse(R"({
     "width": 640, "height": 480, "samples_per_pixel": 64, "seed": 9, "max_bounces": 3,
     "shadows": "fibre_transmittance", "exposure": 1.5,
+    "sampler": "independent", "clamp": 0, "denoise": false,
     "camera": {"view_direction": [0, 2, -0.2], "fov_degrees": 45},
     "key_light": {"direction": [0, 0, 2], "angular_radius_degrees": 1.2, "irradiance": [3, 2, 1]},
     "environment": {"top": [0.5, 0.6, 0.7], "bottom": [0.1, 0.2, 0.3]},
     "hair": {"eumelanin": 8, "pheomelanin": 0.5, "model": "marschner2003", "eta": 1.6,
              "longitudinal_roughness": 0.25, "azimuthal_roughness": 0.5,
-             "cuticle_tilt_degrees": 3},
+             "cuticle_tilt_degrees": 3, "water_eta": 1.34},
     "body_albedo": [0.2, 0.3, 0.4]})");
+  EXPECT_EQ(s.options.pattern, SamplePattern::kIndependent);
+  EXPECT_EQ(s.options.clamp, 0.0);
+  EXPECT_FALSE(s.options.denoise);
+  EXPECT_EQ(s.optics.water_eta, 1.34);
   EXPECT_EQ(s.options.width, 640);
   EXPECT_EQ(s.options.height, 480);
   EXPECT_EQ(s.options.samples_per_pixel, 64);
@@ -157,6 +170,13 @@ TEST(RenderJson, BadInputsNameTheField) {
   EXPECT_EQ(ErrorOf(R"({"shadows": 1})"),
             "render.shadows: expected one of \"path_traced\", \"fibre_transmittance\", got 1");
   EXPECT_EQ(ErrorOf(R"({"exposure": 0})"), "render.exposure: expected a finite number > 0, got 0");
+  EXPECT_EQ(ErrorOf(R"({"clamp": -1})"),
+            "render.clamp: expected a finite number >= 0 (radiance; 0 = no clamp), got -1");
+  EXPECT_EQ(ErrorOf(R"({"denoise": 1})"), "render.denoise: expected true or false, got 1");
+  EXPECT_EQ(ErrorOf(R"({"sampler": "halton"})"),
+            "render.sampler: expected one of \"sobol\", \"independent\", got \"halton\"");
+  EXPECT_EQ(ErrorOf(R"({"hair": {"water_eta": 1}})"),
+            "render.hair.water_eta: expected a finite number > 1 (refractive index), got 1");
   EXPECT_EQ(ErrorOf(R"({"body_albedo": [0.5, 1.5, 0]})"),
             "render.body_albedo: expected an array of 3 numbers in [0, 1] (reflectance), got "
             "[0.5,1.5,0]");

@@ -878,5 +878,32 @@ TEST(StylingTest, BrushedWetDryCutGrowActOnTheSelectedMastersOnly) {
   EXPECT_FALSE(Cut(&copy, plane, {}, {}, nullptr, &error, bad));
 }
 
+
+// The renderer learns which strands are wet (HairCurves::wetness): a brushed Wet of masters 0, 3
+// and 7 wets exactly the strands of their wisps (GrowWisps writes strands_per_wisp = 4 strands
+// per master, master by master); dry hair carries no wetness, nor hair after Dry.
+TEST(StylingTest, StyledStrandsCarryTheWetnessOfTheirMasters) {
+  StyledHair state = Groomed(SmallStyle("caucasian", "straight", 10, 0.15));
+  std::string error;
+  HairCurves strands;
+  ASSERT_TRUE(StyledStrands(state, &strands, &error)) << error;
+  EXPECT_TRUE(strands.wetness.empty());
+  StrandSelection brush;
+  brush.indices = {0, 3, 7};
+  ASSERT_TRUE(Wet(&state, {}, {}, nullptr, &error, brush)) << error;
+  ASSERT_TRUE(StyledStrands(state, &strands, &error)) << error;
+  ASSERT_EQ(strands.NumStrands(), 40);
+  ASSERT_EQ(strands.wetness.size(), 40u);
+  for (int k = 0; k < 40; ++k) {
+    const int master = k / 4;
+    const float expected = master == 0 || master == 3 || master == 7 ? 1.0f : 0.0f;
+    EXPECT_EQ(strands.wetness[static_cast<size_t>(k)], expected) << "strand " << k;
+  }
+  EXPECT_TRUE(CheckHairCurves(strands, "strands", &error)) << error;
+  ASSERT_TRUE(Dry(&state, {}, nullptr, &error)) << error;
+  ASSERT_TRUE(StyledStrands(state, &strands, &error)) << error;
+  EXPECT_TRUE(strands.wetness.empty());
+}
+
 }  // namespace
 }  // namespace ringlet

@@ -26,6 +26,9 @@ struct FibreHit {
   /// Angle of the cross-section's major axis in the normal plane, measured from y toward z
   /// (rad); only elliptic fibres (eccentricity > 0) depend on it.
   double major_axis_angle = 0.0;
+  /// How wet the fibre is, in [0, 1]: the fraction of its surface covered by a water film
+  /// (HairCurves::wetness); 0 is dry. Models that ignore water ignore it.
+  double wetness = 0.0;
 };
 
 /// One draw of an incident direction from a scattering model.
@@ -55,6 +58,18 @@ class FibreScattering {
   /// A_TT of Marschner et al. 2003), for a ray along -wo hitting at offset hit.h: the per-fibre
   /// transmittance of shadow rays in the renderer's fast shadow mode. In [0, 1] componentwise.
   virtual Rgb Transmittance(const Vec3& wo, const FibreHit& hit) const = 0;
+  /// The directional albedo, integral of f(wo, wi) over wi, in [0, 1] componentwise: a guide
+  /// for the denoiser (denoise.h), not used for light transport. The default estimates it with
+  /// 16 fixed stratified samples of Sample; models that know it exactly override it.
+  virtual Rgb Albedo(const Vec3& wo, const FibreHit& hit) const {
+    Rgb sum = Rgb::Zero();
+    for (int i = 0; i < 16; ++i) {
+      const double a = (i % 4 + 0.5) / 4.0, b = (i / 4 + 0.5) / 4.0;
+      const ScatterSample s = Sample(wo, hit, {a, b, 0.5 * (a + b), 1.0 - a});
+      if (s.pdf > 0.0) sum += s.weight;
+    }
+    return (sum / 16.0).cwiseMax(0.0).cwiseMin(1.0);
+  }
 };
 
 }  // namespace ringlet

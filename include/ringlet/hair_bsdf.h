@@ -46,6 +46,9 @@ struct HairOptics {
   /// + 1.194 b^2 + 5.372 b^22) (rad). Marschner 2003 has no azimuthal roughness (only its
   /// sampling density uses s).
   double azimuthal_roughness = 0.3;
+  /// Refractive index of the water film on wet fibres (FibreHit::wetness > 0), > 1: 1.333 (pure
+  /// water at 20 C and 589 nm; Hale & Querry, Applied Optics 12(3), 1973).
+  double water_eta = 1.333;
 };
 
 /// Absorption sigma_a (HairOptics::sigma_a's units) from melanin concentrations (Chiang et al.
@@ -96,6 +99,17 @@ Rgb MelaninDisplayColour(double eumelanin, double pheomelanin);
 /// absorption) with the actual phi_i.
 /// Transmittance: A_TT = (1 - f)^2 T of the Chiang model (exact for a smooth cylinder), both
 /// models.
+/// Wet fibres (kChiang2016; FibreHit::wetness w in [0, 1], the fraction of the surface under a
+///   water film): the film (index water_eta, between air and the fibre) replaces the fibre's
+///   Fresnel reflectance f by the film stack's, R = R1 + (1 - R1)^2 R2 / (1 - R1 R2) per
+///   polarization (R1 air | water, R2 water | keratin, incoherent multiple reflections), in every
+///   lobe: A_R, the entry and exit (1 - f)^2 and the internal reflections f of TRT and the
+///   residual. A thin concentric film keeps the ray's offset invariant (Bouguer's n r sin i), so
+///   gamma_t and the absorption are unchanged. With w, A_p = (1 - w) A_p(dry) + w A_p(wet): still
+///   exactly 1 in the furnace. R drops to 0.555 of dry at normal incidence, TRT to ~0.5, TT
+///   rises; more light enters the absorbing cortex, and in a hair volume it goes deeper before
+///   coming back (Lekner & Dorf 1988's explanation of wet darkening: less index contrast, more
+///   forward scattering, more absorption). kMarschner2003 ignores wetness.
 class HairBsdf final : public FibreScattering {
  public:
   /// optics must pass CheckHairOptics (asserted).
@@ -106,6 +120,8 @@ class HairBsdf final : public FibreScattering {
                        const std::array<double, 4>& u) const override;
   double Pdf(const Vec3& wo, const Vec3& wi, const FibreHit& hit) const override;
   Rgb Transmittance(const Vec3& wo, const FibreHit& hit) const override;
+  /// Sum of the Chiang attenuations A_p (exact for kChiang2016; a guide for kMarschner2003).
+  Rgb Albedo(const Vec3& wo, const FibreHit& hit) const override;
 
   const HairOptics& optics() const { return optics_; }
 
@@ -116,7 +132,8 @@ class HairBsdf final : public FibreScattering {
 /// Checks optics: a one-line message naming the field and the expected range, or "" when valid:
 /// eta > 1 finite, eccentricity in [0, 1), sigma_a >= 0 finite, cuticle_tilt in [-0.2, 0.2] rad
 /// (measured tilts are 2-5 degrees; 0.2 rad = 11.5 degrees leaves room without letting the
-/// shifted lobes wrap over the poles for ordinary views), both roughnesses in (0, 1].
+/// shifted lobes wrap over the poles for ordinary views), both roughnesses in (0, 1], water_eta
+/// > 1 finite.
 std::string CheckHairOptics(const HairOptics& optics);
 
 }  // namespace ringlet

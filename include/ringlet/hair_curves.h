@@ -27,6 +27,11 @@ struct HairCurves {
   /// ellipse by it (and picks a random orientation per strand when it is empty). File formats do
   /// not store it.
   std::vector<Vec3f> major_axes;
+  /// Optional per-strand wetness in [0, 1] (empty = all dry, or one per strand): the fraction
+  /// of the fibre's surface under a water film. The styling operations set it (StyledStrands:
+  /// 1 for the strands of wet masters); the renderer's fibre optics follow it (hair_bsdf.h).
+  /// File formats do not store it.
+  std::vector<float> wetness;
 
   int NumStrands() const { return static_cast<int>(point_counts.size()); }
   int NumPoints() const { return static_cast<int>(points.size()); }
@@ -34,8 +39,8 @@ struct HairCurves {
 
 /// Checks what the exporters and the renderer rely on: each strand has >= 2 points, the counts
 /// add up to points.size() (no overflow), widths.size() == points.size(), colors is empty or has
-/// one entry per strand, major_axes is empty or has one per point, coordinates, colours and axes
-/// are finite, widths finite and >= 0. On failure *why gets one line that starts with name and
+/// one entry per strand, major_axes is empty or has one per point, wetness is empty or has one
+/// value in [0, 1] per strand, coordinates, colours and axes are finite, widths finite and >= 0. On failure *why gets one line that starts with name and
 /// the field ("frames[2].widths[7]: ...").
 bool CheckHairCurves(const HairCurves& curves, std::string_view name, std::string* why);
 

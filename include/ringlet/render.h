@@ -97,6 +97,17 @@ struct RenderScene {
   Environment environment;
 };
 
+/// How the numbers of a pixel's samples are drawn.
+enum class SamplePattern : std::uint8_t {
+  /// Every pair of dimensions (pixel position, light sample, scattering sample, ...) of a pixel's
+  /// samples is a shuffled Owen-scrambled 2D Sobol sequence (Burley 2020): the samples of a
+  /// pixel are stratified in each pair, as independent as random numbers across pairs and
+  /// pixels. The default.
+  kSobol,
+  /// Independent uniform random numbers for every sample (SplitMix64 streams): the reference.
+  kIndependent,
+};
+
 /// How to render it.
 struct RenderOptions {
   int width = 800;              ///< pixels, >= 1
@@ -113,6 +124,19 @@ struct RenderOptions {
   /// true: each sample at a uniform random point of its pixel (box filter); false: every
   /// sample through the pixel's centre (tests that need to know where rays go).
   bool jitter = true;
+  /// How sample numbers are drawn (kSobol: stratified; both are unbiased).
+  SamplePattern pattern = SamplePattern::kSobol;
+  /// Firefly clamp (radiance, W sr^-1 m^-2 per channel), >= 0; 0 turns it off (unbiased).
+  /// Every contribution of indirect light (a path with two or more scattering events: light
+  /// reaching a vertex after the first, or a bounce ray escaping to a light) whose largest
+  /// channel exceeds clamp is scaled down to it, hue kept. The estimate is then biased low by
+  /// the mean of (X - clamp)+ over those contributions X; direct light is never clamped
+  /// (docs/rendering.md, "Noise").
+  double clamp = 0.0;
+  /// After sampling, filter the image with the edge-avoiding a-trous denoiser (denoise.h)
+  /// guided by the first hits' albedo, normal, depth and the pixels' variance. Off by default
+  /// here (unbiased); the render settings turn it on (render_json.h).
+  bool denoise = false;
   /// Called after each finished tile with (tiles done, tiles total), never concurrently; with
   /// passes, the tiles of every pass count (total = tiles x passes).
   std::function<void(long, long)> progress;
@@ -151,6 +175,7 @@ struct RenderStats {
   std::int64_t camera_rays = 0;
   std::int64_t rays = 0;            ///< all rays traced (camera, bounce, shadow)
   std::int64_t nan_samples = 0;     ///< samples discarded because they were NaN or infinite
+  double denoise_seconds = 0.0;     ///< of which denoising (s), 0 without
   int hair_segments = 0;            ///< curve segments given to Embree
   int body_primitives = 0;          ///< spheres + triangles given to Embree
 };

@@ -38,12 +38,18 @@ struct CameraSettings {
   double vertical_fov = 30.0 * M_PI / 180.0;  ///< full vertical field of view (rad), in (0, pi)
 };
 
+/// The firefly clamp of the render settings' default (RenderOptions::clamp; radiance): see
+/// docs/rendering.md, "Noise", for how it was chosen and the bias it adds.
+inline constexpr double kDefaultClamp = 4.0;
+
 /// Everything a "render" object sets. Eccentricity is not a render setting: it is the
 /// hairstyle's (mechanical) one, HairTypeEccentricity below.
 struct RenderSettings {
-  /// Image size, samples, seed, bounces and shadow mode; threads, tile_size and progress are
-  /// not file settings (they keep RenderOptions' defaults and are set by the command).
-  RenderOptions options;
+  /// Image size, samples, seed, bounces, shadow mode, sampler, clamp and denoise; threads,
+  /// tile_size and progress are not file settings (they keep RenderOptions' defaults and are set
+  /// by the command). Defaults: RenderOptions' except clamp = kDefaultClamp and denoise = true
+  /// (clean pictures; "clamp": 0 and "denoise": false give the unbiased estimate).
+  RenderOptions options = DefaultOptions();
   CameraSettings camera;
   /// The key light: by default from above, in front and to the face's left (-x), so that the
   /// default camera sees the hair lit from the side with soft modelling.
@@ -58,6 +64,7 @@ struct RenderSettings {
   Rgb body_albedo = Rgb(0.55, 0.42, 0.36);  ///< Lambertian reflectance of the body in [0, 1]
 
   static KeyLight DefaultKeyLight();
+  static RenderOptions DefaultOptions();
 };
 
 /// Parses a render object ({"width": 800, "camera": {...}, "hair": {...}, ...}) into *settings,
@@ -92,6 +99,8 @@ bool LoadRenderSettings(const std::string& path, RenderSettings* settings, std::
 /// not read it (it computes absorption from the melanins itself).
 void SetMelaninColours(const RenderSettings& settings, HairCurves* curves);
 
+/// "sobol" / "independent" -> SamplePattern; false for other names.
+bool ParseSamplePattern(const std::string& name, SamplePattern* pattern);
 /// "path_traced" / "fibre_transmittance" -> ShadowMode; false for other names.
 bool ParseShadowMode(const std::string& name, ShadowMode* mode);
 /// "chiang2016" / "marschner2003" -> HairScatteringModel; false for other names.

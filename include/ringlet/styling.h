@@ -297,7 +297,9 @@ bool ApplyOperation(StyledHair* state, const StyleOperation& operation, const Ba
                     std::vector<StyledHair>* grow_sequence, OperationReport* report,
                     std::string* why);
 
-/// Samples the masters of a styled state and grows their wisps (GrowWisps).
+/// Samples the masters of a styled state and grows their wisps (GrowWisps), applies the cuts,
+/// and sets HairCurves::wetness (1 for the strands of wet masters, 0 for the others; empty when
+/// no master is wet) for the renderer's optics.
 bool StyledStrands(const StyledHair& state, HairCurves* strands, std::string* why);
 
 }  // namespace ringlet

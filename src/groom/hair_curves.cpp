@@ -104,6 +104,20 @@ bool CheckHairCurves(const HairCurves& curves, std::string_view name, std::strin
                       Text(curves.colors[k]));
     }
   }
+  if (!curves.wetness.empty() && curves.wetness.size() != curves.point_counts.size()) {
+    return Fail(why, name,
+                ".wetness: expected none or one per strand (" +
+                    std::to_string(curves.point_counts.size()) + "), got " +
+                    std::to_string(curves.wetness.size()));
+  }
+  for (size_t k = 0; k < curves.wetness.size(); ++k) {
+    const float wet = curves.wetness[k];
+    if (!(wet >= 0.0f && wet <= 1.0f)) {
+      std::string text;
+      AppendNumber(&text, wet);
+      return Fail(why, name, Index("wetness", k) + ": expected a value in [0, 1], got " + text);
+    }
+  }
   return true;
 }
 

@@ -825,6 +825,18 @@ bool StyledStrands(const StyledHair& state, HairCurves* strands, std::string* wh
     }
     ApplyStrandCuts(state.strand_cuts, strands);
   }
+  // Wetness for the renderer's optics: the strands of a wet master's wisp are wet (GrowWisps
+  // writes the wisps master by master, each with the same number of strands).
+  strands->wetness.clear();
+  const size_t n = state.masters.models.size();
+  if (state.wet && n > 0 && state.wet_masters.size() == n &&
+      strands->point_counts.size() % n == 0) {
+    const size_t per_wisp = strands->point_counts.size() / n;
+    strands->wetness.resize(strands->point_counts.size());
+    for (size_t k = 0; k < strands->wetness.size(); ++k) {
+      strands->wetness[k] = state.wet_masters[k / per_wisp] ? 1.0f : 0.0f;
+    }
+  }
   return true;
 }
 

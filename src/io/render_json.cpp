@@ -29,6 +29,8 @@ constexpr NumberRule kAngularRadiusRule{"a finite number in (0, 90) (degrees)",
 constexpr NumberRule kExposureRule{"a finite number > 0", [](double x) { return x > 0.0; }};
 constexpr NumberRule kMelaninRule{"a finite number >= 0 (concentration)",
                                   [](double x) { return x >= 0.0; }};
+constexpr NumberRule kClampRule{"a finite number >= 0 (radiance; 0 = no clamp)",
+                                [](double x) { return x >= 0.0; }};
 constexpr NumberRule kEtaRule{"a finite number > 1 (refractive index)",
                               [](double x) { return x > 1.0; }};
 constexpr NumberRule kRoughnessRule{"a finite number in (0, 1]",
@@ -178,11 +180,12 @@ bool ParseHairOptics(Reader& reader, const json& render, const std::string& rend
   double tilt_degrees = optics.cuticle_tilt / kDegree;
   if (!reader.CheckFields(*object, path,
                           {"eumelanin", "pheomelanin", "model", "eta", "longitudinal_roughness",
-                           "azimuthal_roughness", "cuticle_tilt_degrees"}) ||
+                           "azimuthal_roughness", "cuticle_tilt_degrees", "water_eta"}) ||
       !reader.ReadNumber(*object, path, "eumelanin", kMelaninRule, false, &settings->eumelanin) ||
       !reader.ReadNumber(*object, path, "pheomelanin", kMelaninRule, false,
                          &settings->pheomelanin) ||
       !reader.ReadNumber(*object, path, "eta", kEtaRule, false, &optics.eta) ||
+      !reader.ReadNumber(*object, path, "water_eta", kEtaRule, false, &optics.water_eta) ||
       !reader.ReadNumber(*object, path, "longitudinal_roughness", kRoughnessRule, false,
                          &optics.longitudinal_roughness) ||
       !reader.ReadNumber(*object, path, "azimuthal_roughness", kRoughnessRule, false,
@@ -210,7 +213,7 @@ bool ParseRenderObject(Reader& reader, const json& object, const std::string& pa
   if (!reader.CheckFields(object, path,
                           {"width", "height", "samples_per_pixel", "seed", "max_bounces",
                            "shadows", "exposure", "camera", "key_light", "environment", "hair",
-                           "body_albedo"})) {
+                           "body_albedo", "sampler", "clamp", "denoise"})) {
     return false;
   }
   RenderSettings settings = *out;
@@ -223,7 +226,9 @@ bool ParseRenderObject(Reader& reader, const json& object, const std::string& pa
                            &options.seed) ||
       !reader.ReadInteger(object, path, "max_bounces", 0, kMaxBounces, &options.max_bounces) ||
       !reader.ReadNumber(object, path, "exposure", kExposureRule, false, &settings.exposure) ||
-      !ReadRgb(reader, object, path, "body_albedo", 1.0, "reflectance", &settings.body_albedo)) {
+      !ReadRgb(reader, object, path, "body_albedo", 1.0, "reflectance", &settings.body_albedo) ||
+      !reader.ReadNumber(object, path, "clamp", kClampRule, false, &options.clamp) ||
+      !reader.ReadBool(object, path, "denoise", &options.denoise)) {
     return false;
   }
   // The products (pixels, camera samples), before anything is rendered (render.h).
@@ -237,6 +242,14 @@ bool ParseRenderObject(Reader& reader, const json& object, const std::string& pa
   if (!ReadName(reader, object, path, "shadows", expected, &shadows, &present)) return false;
   if (present && !ParseShadowMode(shadows, &options.shadows)) {
     return reader.Expected(Member(path, "shadows"), expected, object.at("shadows"));
+  }
+  std::string sampler;
+  const char* expected_sampler = "one of \"sobol\", \"independent\"";
+  if (!ReadName(reader, object, path, "sampler", expected_sampler, &sampler, &present)) {
+    return false;
+  }
+  if (present && !ParseSamplePattern(sampler, &options.pattern)) {
+    return reader.Expected(Member(path, "sampler"), expected_sampler, object.at("sampler"));
   }
   if (!ParseCamera(reader, object, path, &settings.camera) ||
       !ParseKeyLight(reader, object, path, &settings.key) ||
@@ -254,6 +267,24 @@ KeyLight RenderSettings::DefaultKeyLight() {
   KeyLight key;
   key.direction = Vec3(-0.4, 0.8, 1.0).normalized();
   return key;
+}
+
+RenderOptions RenderSettings::DefaultOptions() {
+  RenderOptions options;
+  options.clamp = kDefaultClamp;
+  options.denoise = true;
+  return options;
+}
+
+bool ParseSamplePattern(const std::string& name, SamplePattern* pattern) {
+  if (name == "sobol") {
+    *pattern = SamplePattern::kSobol;
+  } else if (name == "independent") {
+    *pattern = SamplePattern::kIndependent;
+  } else {
+    return false;
+  }
+  return true;
 }
 
 bool ParseShadowMode(const std::string& name, ShadowMode* mode) {

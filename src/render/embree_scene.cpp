@@ -266,6 +266,7 @@ SurfaceHit EmbreeScene::Intersect(const Vec3& org, const Vec3& dir, double tnear
                        s * hair_->major_axes[first_point + 1].cast<double>();
     }
     hit.radius = (1.0 - s) * r0 + s * r1;
+    if (!hair_->wetness.empty()) hit.wetness = hair_->wetness[static_cast<size_t>(hit.strand)];
     return hit;
   }
   hit.kind = HitKind::kBody;
@@ -317,6 +318,7 @@ FibreFrame MakeFibreFrame(const SurfaceHit& hit, const Vec3& wo, std::uint64_t o
   frame.y = frame.z.cross(frame.x);
   const double h = hit.radius > 0.0 ? (hit.p - hit.axis_point).dot(frame.y) / hit.radius : 0.0;
   frame.hit.h = std::clamp(h, -1.0, 1.0);
+  frame.hit.wetness = hit.wetness;
   // The ellipse's orientation: the given major axis seen in the normal plane (y, z), folded into
   // [0, pi); without one (or with one along the fibre), a random angle per strand.
   const double axis_y = hit.major_axis.dot(frame.y);

@@ -49,6 +49,7 @@ struct SurfaceHit {
   /// Major axis of the cross-section at axis_point (HairCurves::major_axes interpolated along
   /// the segment, not normalized); zero when the curves carry none.
   Vec3 major_axis = Vec3::Zero();
+  double wetness = 0.0;  ///< HairCurves::wetness of the strand (0 when the curves carry none)
   // Body hits.
   Vec3 normal = Vec3::UnitZ();  ///< outward unit geometric normal
 };

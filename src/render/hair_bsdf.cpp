@@ -201,6 +201,34 @@ double FresnelDielectric(double cos_i, double eta) {
   return 0.5 * (rs * rs + rp * rp);
 }
 
+double FresnelWaterFilm(double cos_i, double eta_water, double eta) {
+  // Per polarization: the air-water interface (r1) and the water-fibre one (r2, relative index
+  // eta / eta_water, at the angle refracted into the water), their multiple reflections summed
+  // incoherently (a film many wavelengths thick): R = R1 + (1 - R1)^2 R2 / (1 - R1 R2) (Stokes;
+  // e.g. Born & Wolf, Principles of Optics, section 1.6, without the phase).
+  cos_i = std::clamp(cos_i, 0.0, 1.0);
+  const double sin_w2 = (1.0 - cos_i * cos_i) / (eta_water * eta_water);
+  const double cos_w = std::sqrt(std::max(0.0, 1.0 - sin_w2));  // never total reflection: n > 1
+  const double eta2 = eta / eta_water;
+  const double sin_t2 = (1.0 - cos_w * cos_w) / (eta2 * eta2);
+  const double cos_t = std::sqrt(std::max(0.0, 1.0 - sin_t2));
+  auto reflectance = [](double ci, double ct, double n) {
+    const double rs = (ci - n * ct) / (ci + n * ct);
+    const double rp = (n * ci - ct) / (n * ci + ct);
+    return std::array<double, 2>{rs * rs, rp * rp};
+  };
+  const std::array<double, 2> r1 = reflectance(cos_i, cos_w, eta_water);
+  // eta2 < 1 (a fibre less dense than water) could reflect totally: 1 then.
+  const std::array<double, 2> r2 =
+      sin_t2 < 1.0 ? reflectance(cos_w, cos_t, eta2) : std::array<double, 2>{1.0, 1.0};
+  double sum = 0.0;
+  for (int k = 0; k < 2; ++k) {
+    const double denominator = 1.0 - r1[k] * r2[k];
+    sum += denominator > 0.0 ? r1[k] + (1.0 - r1[k]) * (1.0 - r1[k]) * r2[k] / denominator : 1.0;
+  }
+  return 0.5 * sum;
+}
+
 double LongitudinalVariance(double beta_m) {
   const double w = 0.726 * beta_m + 0.812 * beta_m * beta_m + 3.7 * std::pow(beta_m, 20);
   return w * w;
@@ -251,14 +279,28 @@ ChiangLobes ComputeChiangLobes(const HairOptics& optics, const Vec3& wo, const F
   // Attenuations (Chiang 2016, eqs. 3-5 and 6 for the residual): exact dielectric Fresnel at the
   // 3D incidence cosine cos(theta_o) cos(gamma_o); the same f serves the internal reflections
   // (Fresnel reciprocity); absorption along the chord 2 cos(gamma_t) / cos(theta_t) (radii).
-  const double f = FresnelDielectric(lobes.cos_theta_o * cos_gamma_o, eta);
+  const double cos_incidence = lobes.cos_theta_o * cos_gamma_o;
   const Rgb t = (-optics.sigma_a * (2.0 * cos_gamma_t / cos_theta_t)).array().exp().matrix();
-  lobes.a[0] = Rgb::Constant(f);
-  lobes.a[1] = (1.0 - f) * (1.0 - f) * t;
-  lobes.a[2] = lobes.a[1].cwiseProduct(f * t);
-  for (int c = 0; c < 3; ++c) {
-    const double ft = f * t[c];
-    lobes.a[3][c] = ft < 1.0 ? lobes.a[2][c] * ft / (1.0 - ft) : 0.0;  // A_2 = 0 when f t = 1
+  const auto attenuations = [&t](double f) {
+    std::array<Rgb, kLobes> a;
+    a[0] = Rgb::Constant(f);
+    a[1] = (1.0 - f) * (1.0 - f) * t;
+    a[2] = a[1].cwiseProduct(f * t);
+    for (int c = 0; c < 3; ++c) {
+      const double ft = f * t[c];
+      a[3][c] = ft < 1.0 ? a[2][c] * ft / (1.0 - ft) : 0.0;  // A_2 = 0 when f t = 1
+    }
+    return a;
+  };
+  lobes.a = attenuations(FresnelDielectric(cos_incidence, eta));
+  // A wet fibre (hair_bsdf.h, "Wet fibres"): the fraction `wetness` of its surface is under a
+  // water film, whose reflectance replaces f in every lobe; the lobes of the dry and the wet
+  // surface are mixed by area. Each set sums to 1 without absorption, so their mix does too.
+  const double wetness = std::clamp(hit.wetness, 0.0, 1.0);
+  if (wetness > 0.0) {
+    const std::array<Rgb, kLobes> wet =
+        attenuations(FresnelWaterFilm(cos_incidence, optics.water_eta, eta));
+    for (int p = 0; p < kLobes; ++p) lobes.a[p] = (1.0 - wetness) * lobes.a[p] + wetness * wet[p];
   }
 
   // Longitudinal variances (Chiang eq. 7; v_TT = v/4, v_TRT = v_residual = 4 v as Marschner's
@@ -423,6 +465,15 @@ Rgb HairBsdf::Transmittance(const Vec3& wo, const FibreHit& hit) const {
   return hair::ComputeChiangLobes(optics_, wo, hit).a[1];
 }
 
+Rgb HairBsdf::Albedo(const Vec3& wo, const FibreHit& hit) const {
+  // The Chiang model's integral of f is sum_p A_p exactly (each lobe's M_p N_p integrates to 1);
+  // Marschner's is close to it (not energy conserving; a guide only).
+  const hair::ChiangLobes lobes = hair::ComputeChiangLobes(optics_, wo, hit);
+  Rgb sum = Rgb::Zero();
+  for (const Rgb& a : lobes.a) sum += a;
+  return sum.cwiseMin(1.0);
+}
+
 Rgb AbsorptionFromMelanin(double eumelanin, double pheomelanin) {
   // Chiang et al. 2016, section 4.2 (after d'Eon et al. 2011); the same numbers are in pbrt-v3's
   // HairMaterial (materials/hair.cpp).
@@ -453,6 +504,8 @@ std::string CheckHairOptics(const HairOptics& optics) {
   } else if (!in_unit(optics.longitudinal_roughness)) {
     why << "longitudinal_roughness: expected a value in (0, 1], got "
         << optics.longitudinal_roughness;
+  } else if (!std::isfinite(optics.water_eta) || optics.water_eta <= 1.0) {
+    why << "water_eta: expected a finite refractive index > 1, got " << optics.water_eta;
   } else if (!in_unit(optics.azimuthal_roughness)) {
     why << "azimuthal_roughness: expected a value in (0, 1], got " << optics.azimuthal_roughness;
   }

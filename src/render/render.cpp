@@ -18,6 +18,7 @@
 #include "render/camera.h"
 #include "render/embree_scene.h"
 #include "render/sampler.h"
+#include "ringlet/denoise.h"
 
 namespace ringlet {
 namespace render {
@@ -74,6 +75,9 @@ Lights MakeLights(const RenderScene& scene) {
   return lights;
 }
 
+// Rec. 709 luminance of linear RGB.
+double Luminance(const Rgb& c) { return 0.2126 * c.x() + 0.7152 * c.y() + 0.0722 * c.z(); }
+
 // Everything a sample needs, shared read-only by the threads.
 struct Context {
   const EmbreeScene* scene;
@@ -82,6 +86,13 @@ struct Context {
   const RenderOptions* options;
   Lights lights;
   PinholeCamera camera;
+  // The denoiser's albedo guide of a fibre hit: the fibre's directional albedo seen at normal
+  // incidence through its axis (h = 0, theta_o = 0), dry and wet, blended by the strand's
+  // wetness. One colour per strand rather than per hit: the guide should say which surface a
+  // pixel sees (hair of this colour), not carry the lobes' dependence on where in the fibre a
+  // sample landed, which would be noise in the guide (and would cost a lobe setup per sample).
+  Rgb fibre_albedo_dry = Rgb::Zero();
+  Rgb fibre_albedo_wet = Rgb::Zero();
 };
 
 // A scattering vertex: a fibre or the Lambertian body, with where rays leave from.
@@ -154,10 +165,12 @@ Rgb Visibility(const Context& c, const Vertex& v, const Vec3& wi, std::int64_t* 
 
 // Next-event estimation at v: one key-light sample (uniform cone) and one environment sample,
 // each weighted against BSDF sampling by the power heuristic when mis is true.
-Rgb DirectLight(const Context& c, const Vertex& v, bool mis, SampleRng* rng, std::int64_t* rays) {
+Rgb DirectLight(const Context& c, const Vertex& v, bool mis, PixelSampler* sampler,
+                std::int64_t* rays) {
   Rgb radiance = Rgb::Zero();
   const Lights& lights = c.lights;
-  const double u1 = rng->Uniform(), u2 = rng->Uniform(), u3 = rng->Uniform(), u4 = rng->Uniform();
+  const auto [u1, u2] = sampler->Get2D();
+  const auto [u3, u4] = sampler->Get2D();
   if (lights.key_on) {
     const Vec3 wi = UniformCone(lights.key_frame, lights.key_cos_max, u1, u2);
     const Rgb f = v.Eval(c, wi);
@@ -181,11 +194,27 @@ Rgb DirectLight(const Context& c, const Vertex& v, bool mis, SampleRng* rng, std
   return radiance;
 }
 
+// Scales value down so that its largest channel is at most clamp (0: no clamp), keeping its hue.
+Rgb Clamped(const Rgb& value, double clamp) {
+  const double m = value.maxCoeff();
+  return clamp > 0.0 && m > clamp ? Rgb(value * (clamp / m)) : value;
+}
+
+// What the denoiser's guides record of a camera sample's first hit.
+struct FirstHit {
+  Rgb albedo = Rgb::Zero();      // body_albedo, the fibre's albedo, or 0 for the background
+  Vec3 normal = Vec3::Zero();    // body normal facing the camera, fibre tangent, or 0
+  double depth = 0.0;            // distance from the camera (m), 0 for the background
+};
+
 // The radiance arriving along the camera ray (org, dir): path tracing with next-event
 // estimation and MIS (Veach 1997, ch. 9; pbrt-v3's PathIntegrator), or direct light through
-// fibre transmittance in kFibreTransmittance.
-Rgb TraceSample(const Context& c, const Vec3& org, Vec3 dir, SampleRng* rng, std::int64_t* rays) {
+// fibre transmittance in kFibreTransmittance. With options.clamp > 0, every contribution of a
+// path of two or more scattering events (indirect light) is clamped (Clamped) before it is added.
+Rgb TraceSample(const Context& c, const Vec3& org, Vec3 dir, PixelSampler* sampler,
+                std::int64_t* rays, FirstHit* first) {
   const bool direct_only = c.options->shadows == ShadowMode::kFibreTransmittance;
+  const double clamp = c.options->clamp;
   ++*rays;
   SurfaceHit hit = c.scene->Intersect(org, dir, 0.0, kInfinity, RayIgnore());
   if (hit.kind == HitKind::kNone) return c.lights.Environment(dir) + c.lights.Key(dir);
@@ -193,12 +222,26 @@ Rgb TraceSample(const Context& c, const Vec3& org, Vec3 dir, SampleRng* rng, std
   Rgb beta = Rgb::Ones();
   for (int bounce = 0;; ++bounce) {
     const Vertex v = MakeVertex(c, hit, -dir);
-    radiance += beta.cwiseProduct(DirectLight(c, v, !direct_only, rng, rays));
+    if (bounce == 0) {
+      first->depth = hit.t;
+      if (v.fibre) {
+        const double w = v.frame.hit.wetness;
+        first->albedo = (1.0 - w) * c.fibre_albedo_dry + w * c.fibre_albedo_wet;
+        first->normal = v.frame.x;
+      } else {
+        first->albedo = c.render_scene->body_albedo;
+        first->normal = v.normal;
+      }
+    }
+    const Rgb direct = beta.cwiseProduct(DirectLight(c, v, !direct_only, sampler, rays));
+    radiance += bounce == 0 ? direct : Clamped(direct, clamp);
     if (direct_only) break;
 
-    // Sample the next direction from the scattering model.
-    std::array<double, 4> u;
-    for (double& x : u) x = rng->Uniform();
+    // Sample the next direction from the scattering model: (u0, u3) pick the lobe and the
+    // azimuth, (u1, u2) the longitudinal angle (hair_bsdf.cpp's Sample).
+    const auto [u0, u3] = sampler->Get2D();
+    const auto [u1, u2] = sampler->Get2D();
+    const std::array<double, 4> u = {u0, u1, u2, u3};
     Vec3 wi;
     Rgb weight;
     double pdf = 0.0;
@@ -222,7 +265,8 @@ Rgb TraceSample(const Context& c, const Vec3& org, Vec3 dir, SampleRng* rng, std
       const Rgb seen =
           c.lights.Environment(wi) * PowerHeuristic(pdf, v.EnvironmentPdf(wi)) +
           c.lights.Key(wi) * PowerHeuristic(pdf, c.lights.key_pdf);
-      radiance += beta.cwiseProduct(seen);
+      const Rgb escaped = beta.cwiseProduct(seen);
+      radiance += bounce == 0 ? escaped : Clamped(escaped, clamp);
       break;
     }
     if (bounce + 1 > c.options->max_bounces) break;
@@ -230,7 +274,7 @@ Rgb TraceSample(const Context& c, const Vec3& org, Vec3 dir, SampleRng* rng, std
     // and divide by q, unbiased.
     if (bounce + 1 >= kRouletteBounce) {
       const double q = std::min(1.0, beta.maxCoeff());
-      if (rng->Uniform() >= q) break;
+      if (sampler->Get1D() >= q) break;
       beta /= q;
     }
     dir = wi;
@@ -286,6 +330,16 @@ bool CheckInputs(const RenderScene& scene, const RenderOptions& options, Pinhole
       !CheckInt(options.max_bounces, 0, 1 << 16, "options.max_bounces", why) ||
       !CheckInt(options.threads, 0, 1 << 12, "options.threads", why) ||
       !CheckInt(options.tile_size, 1, kMaxSide, "options.tile_size", why)) {
+    return false;
+  }
+  if (!(options.clamp >= 0.0) || std::isnan(options.clamp)) {
+    std::ostringstream message;
+    message << "options.clamp: expected a radiance >= 0 (0 = off), got " << options.clamp;
+    *why = message.str();
+    return false;
+  }
+  if (options.pattern != SamplePattern::kSobol && options.pattern != SamplePattern::kIndependent) {
+    *why = "options.pattern: expected kSobol or kIndependent";
     return false;
   }
   if (!CheckRenderSize(options.width, options.height, options.samples_per_pixel, why)) {
@@ -392,6 +446,12 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
   c.options = &options;
   c.fibre = scene.hair != nullptr ? scene.fibre.get() : nullptr;
   c.lights = MakeLights(scene);
+  if (c.fibre != nullptr && options.denoise) {
+    FibreHit axis;  // h = 0, dry
+    c.fibre_albedo_dry = c.fibre->Albedo(Vec3::UnitZ(), axis);
+    axis.wetness = 1.0;
+    c.fibre_albedo_wet = c.fibre->Albedo(Vec3::UnitZ(), axis);
+  }
 
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   std::unique_ptr<EmbreeScene> embree;
@@ -420,8 +480,16 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
   result.pixels.assign(static_cast<size_t>(width) * height, Eigen::Vector3f::Zero());
   // Per pixel: the sum of its finite samples so far and their number (passes add to them in
   // sample order, so the mean is the same whatever the passes).
-  std::vector<Rgb> sums(static_cast<size_t>(width) * height, Rgb::Zero());
-  std::vector<int> counts(static_cast<size_t>(width) * height, 0);
+  const size_t pixels = static_cast<size_t>(width) * height;
+  std::vector<Rgb> sums(pixels, Rgb::Zero());
+  std::vector<int> counts(pixels, 0);
+  // The denoiser's guides, summed over each pixel's finite samples like the colour: luminance
+  // squared (for the variance), first-hit albedo, normal and depth.
+  const bool guides = options.denoise;
+  std::vector<double> sums_luminance2(guides ? pixels : 0, 0.0);
+  std::vector<Rgb> sums_albedo(guides ? pixels : 0, Rgb::Zero());
+  std::vector<Vec3> sums_normal(guides ? pixels : 0, Vec3::Zero());
+  std::vector<double> sums_depth(guides ? pixels : 0, 0.0);
   std::atomic<std::int64_t> rays{0};
   std::atomic<std::int64_t> nan_samples{0};
   std::mutex progress_mutex;
@@ -451,20 +519,28 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
         Rgb& sum = sums[pixel];
         int& valid = counts[pixel];
         for (int s = s_begin; s < s_end; ++s) {
-          SampleRng rng(options.seed, pixel, static_cast<std::uint64_t>(s));
+          PixelSampler sampler(options.seed, pixel, static_cast<std::uint64_t>(s),
+                               options.pattern == SamplePattern::kSobol);
           // Box filter: a uniform point in the pixel (its centre without jitter).
-          const double jx = rng.Uniform();
-          const double jy = rng.Uniform();
+          const auto [jx, jy] = sampler.Get2D();
           const double px = x + (options.jitter ? jx : 0.5);
           const double py = y + (options.jitter ? jy : 0.5);
-          const Rgb value = TraceSample(c, c.camera.position, c.camera.Direction(px, py), &rng,
-                                        &tile_rays);
+          FirstHit first;
+          const Rgb value = TraceSample(c, c.camera.position, c.camera.Direction(px, py),
+                                        &sampler, &tile_rays, &first);
           if (!value.allFinite()) {
             ++tile_nans;
             continue;
           }
           sum += value;
           ++valid;
+          if (guides) {
+            const double l = Luminance(value);
+            sums_luminance2[pixel] += l * l;
+            sums_albedo[pixel] += first.albedo;
+            sums_normal[pixel] += first.normal;
+            sums_depth[pixel] += first.depth;
+          }
         }
         if (valid > 0) result.At(x, y) = (sum / valid).cast<float>();
       }
@@ -491,8 +567,44 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
     s_begin = s_end;
   }
 
+  double denoise_seconds = 0.0;
+  if (options.denoise) {
+    const auto denoise_start = std::chrono::steady_clock::now();
+    DenoiseGuides g;
+    g.width = width;
+    g.height = height;
+    g.albedo.assign(pixels, Eigen::Vector3f::Zero());
+    g.normal.assign(pixels, Eigen::Vector3f::Zero());
+    g.depth.assign(pixels, 0.0f);
+    g.variance.assign(pixels, -1.0f);
+    for (size_t i = 0; i < pixels; ++i) {
+      const int n = counts[i];
+      if (n == 0) continue;
+      g.albedo[i] = (sums_albedo[i] / n).cast<float>();
+      g.normal[i] = (sums_normal[i] / n).cast<float>();
+      g.depth[i] = static_cast<float>(sums_depth[i] / n);
+      if (n > 1) {
+        // The unbiased sample variance of the luminance over n, the variance of the mean.
+        const double mean = Luminance(sums[i]) / n;
+        const double sample_variance =
+            std::max(0.0, (sums_luminance2[i] - n * mean * mean) / (n - 1));
+        g.variance[i] = static_cast<float>(sample_variance / n);
+      }
+    }
+    DenoiseOptions denoise_options;
+    bool denoised = false;
+    arena.execute([&] { denoised = DenoiseImage(result, g, denoise_options, &result, &why); });
+    if (!denoised) {
+      if (error != nullptr) *error = why;
+      return false;
+    }
+    denoise_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - denoise_start).count();
+  }
+
   *image = std::move(result);
   if (stats != nullptr) {
+    stats->denoise_seconds = denoise_seconds;
     stats->camera_rays = static_cast<std::int64_t>(width) * height * spp;
     stats->rays = rays.load();
     stats->nan_samples = nan_samples.load();
