@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Makes docs/images/blender_groom.png (docs/blender.md): grooms examples/hairstyles/wavy.json with
+# Makes docs/images/blender_groom.png (docs/blender.md): grooms
+# examples/hairstyles/wavy_mannequin.json with
 # the built `ringlet`, imports the folder with the built add-on into headless Blender and renders
 # it with Cycles. Usage: scripts/make_blender_picture.sh [BUILD_DIR] [SIZE] [SAMPLES]
 set -euo pipefail
@@ -10,7 +11,7 @@ samples=${3:-64}
 work=$(mktemp -d "${TMPDIR:-/tmp}/ringlet_blender_picture.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/scripts" "$work/config"
-"$build/ringlet" groom "$root/examples/hairstyles/wavy.json" -o "$work/groom" --quiet
+"$build/ringlet" groom "$root/examples/hairstyles/wavy_mannequin.json" -o "$work/groom" --quiet
 BLENDER_USER_SCRIPTS="$work/scripts" BLENDER_USER_CONFIG="$work/config" \
   blender -b --factory-startup --python-exit-code 1 \
   --python "$root/scripts/blender_picture.py" -- \

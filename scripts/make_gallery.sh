@@ -1,6 +1,7 @@
 #!/bin/sh
-# Regenerates the pictures of docs/hairstyles.md: grooms the four example hairstyles and a
-# no-hull-layer variant of the wavy one, draws them, and draws the strand growing on a sphere.
+# Regenerates the matplotlib pictures of docs/hairstyles.md ("On the sphere mannequin"): grooms the
+# four example hairstyles on the paper's sphere mannequin (examples/hairstyles/*_mannequin.json) and
+# a no-hull-layer variant of the wavy one, draws them, and draws the strand growing on a sphere.
 #
 #   scripts/make_gallery.sh [BUILD_DIR] [IMAGE_DIR]     (defaults: build, docs/images)
 #
@@ -29,28 +30,28 @@ groom() {  # groom HAIRSTYLE NAME
 }
 
 for style in straight wavy curly african; do
-  groom "examples/hairstyles/$style.json" "$style"
+  groom "examples/hairstyles/${style}_mannequin.json" "$style"
   # The title: the hairstyle's description up to its first colon.
   description=$($python -c "import json, sys; print(json.load(open(sys.argv[1]))['description']
-      .split(':')[0])" "examples/hairstyles/$style.json")
+      .split(':')[0])" "examples/hairstyles/${style}_mannequin.json")
   $python scripts/plot_groom.py "$out/$style" -o "$images/groom_$style.png" --palette "$style" \
-    --title "$style.json: $description"
+    --title "${style}_mannequin.json: $description"
 done
 
 # The same wavy hairstyle without hull layers (Lee & Ko 2001): one layer of zero thickness.
 # A temporary copy of the example, with the body path made absolute.
 $python - "$out/wavy_no_layers.json" <<'PY'
 import json, os, sys
-style = json.load(open("examples/hairstyles/wavy.json"))
+style = json.load(open("examples/hairstyles/wavy_mannequin.json"))
 style["body"] = os.path.abspath("examples/bodies/mannequin.json")
 style["layers"] = {"count": 1, "thickness": 0}
-style["description"] = "wavy.json without hull layers (docs/hairstyles.md)"
+style["description"] = "wavy_mannequin.json without hull layers (docs/hairstyles.md)"
 json.dump(style, open(sys.argv[1], "w"), indent=1)
 PY
 groom "$out/wavy_no_layers.json" wavy_no_layers
 $python scripts/plot_groom.py "$out/wavy_no_layers" "$out/wavy" -o "$images/groom_layers.png" \
   --palette wavy --views side,slice --labels "layers: 1, 0 mm" "layers: 4 x 3 mm" \
-  --title "wavy.json without and with hull layers (Lee & Ko 2001)"
+  --title "wavy_mannequin.json without and with hull layers (Lee & Ko 2001)"
 
 # The paper's Figure 2 (right): a curly strand growing on a sphere.
 echo "== drape_example $out/drape.csv"

@@ -1,5 +1,7 @@
 #!/bin/sh
-# Rendered pictures for docs/rendering.md and the README: the four example hairstyles, dry vs wet,
+# Rendered pictures for docs/rendering.md: the four example hairstyles on the sphere mannequin
+# (examples/hairstyles/*_mannequin.json; the head-and-shoulders gallery of docs/hairstyles.md is
+# scripts/render_gallery.sh), dry vs wet,
 # circular vs elliptic fibres, hair colour by melanin, and multiple scattering vs the fast
 # transmittance preview on blonde hair.
 #
@@ -35,7 +37,7 @@ EOF
 #    eccentricity of each type is the mechanical one).
 for style in straight wavy curly african; do
   echo "== groom $style --render"
-  "$ringlet" groom examples/hairstyles/$style.json -o "$out/$style" --force --render \
+  "$ringlet" groom examples/hairstyles/${style}_mannequin.json -o "$out/$style" --force --render \
     --width "$size" --height "$size" --spp "$spp" | tee "$out/$style.log"
 done
 $python scripts/combine_images.py -o "$images/render_styles.png" \
@@ -53,7 +55,7 @@ render() {  # render OUTPUT.png INPUT ARGS...
 }
 
 # 2. Dry vs wet: the wet hair's shape (ringlet style --wet), same optics, same camera.
-"$ringlet" style examples/hairstyles/wavy.json --wet -o "$out/wavy_wet" --force \
+"$ringlet" style examples/hairstyles/wavy_mannequin.json --wet -o "$out/wavy_wet" --force \
   | tee "$out/wavy_wet.log"
 e_caucasian=0.705  # sqrt(1 - 1/1.41^2): caucasian ellipticity 1.41 (docs/hair-types.md)
 render "$out/dry.png" "$out/wavy/strands.hair" --body $body --eccentricity $e_caucasian
@@ -77,7 +79,7 @@ closeup() {  # closeup OUTPUT.png ARGS...
   output=$1
   shift
   echo "== render close-up $* -> $output"
-  "$ringlet" render examples/hairstyles/straight.json -o "$output" --force \
+  "$ringlet" render examples/hairstyles/straight_mannequin.json -o "$output" --force \
     --settings "$out/closeup.json" --width "$size" --height "$size" --spp "$spp" \
     --eumelanin 0.6 --pheomelanin 0.1 --shadows fibre_transmittance "$@"
 }

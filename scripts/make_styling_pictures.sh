@@ -24,25 +24,25 @@ run() {  # run NAME ARGS...
   echo "== ringlet $* -o $out/$name/"
   "$build/ringlet" "$@" -o "$out/$name" --force | tee "$out/$name.log"
 }
-run wavy groom examples/hairstyles/wavy.json
-run wavy_wet style examples/hairstyles/wavy.json --wet
+run wavy groom examples/hairstyles/wavy_mannequin.json
+run wavy_wet style examples/hairstyles/wavy_mannequin.json --wet
 $python scripts/plot_groom.py "$out/wavy" "$out/wavy_wet" -o "$images/style_wet.png" \
   --palette wavy --views side --labels "dry" "wet (--wet)" \
   --title "wavy.json dry and wet: E / 10, radius x 1.13, water weight, thinner hull layers"
-run straight groom examples/hairstyles/straight.json
-run straight_cut style examples/hairstyles/straight.json --cut-z -0.12 --settle
+run straight groom examples/hairstyles/straight_mannequin.json
+run straight_cut style examples/hairstyles/straight_mannequin.json --cut-z -0.12 --settle
 $python scripts/plot_groom.py "$out/straight" "$out/straight_cut" -o "$images/style_cut.png" \
   --palette straight --views side --labels "groomed" "cut at z = -0.12 m (--settle)" \
   --title "straight.json before and after a cut: the lighter hair rises, --settle re-cuts"
-run wavy_wet_dry style examples/hairstyles/wavy.json --wet --dry
+run wavy_wet_dry style examples/hairstyles/wavy_mannequin.json --wet --dry
 $python scripts/plot_groom.py "$out/wavy_wet" "$out/wavy_wet_dry" -o "$images/style_dry.png" \
   --palette wavy --views side --labels "wet (--wet)" "dried (--wet --dry)" \
   --title "wavy.json wet, then dried: the exact inverse, the groomed shape comes back"
-run straight_curl style examples/hairstyles/straight.json --curl 0.01,0.03
+run straight_curl style examples/hairstyles/straight_mannequin.json --curl 0.01,0.03
 $python scripts/plot_groom.py "$out/straight" "$out/straight_curl" -o "$images/style_curl.png" \
   --palette straight --views side --labels "groomed" "--curl 0.01,0.03" \
   --title "straight.json curled: helix R = 1 cm, p = 3 cm"
-run straight_grow style examples/hairstyles/straight.json --grow 0.02 --steps 5
+run straight_grow style examples/hairstyles/straight_mannequin.json --grow 0.02 --steps 5
 $python scripts/plot_groom.py "$out/straight" "$out/straight_grow" -o "$images/style_grow.png" \
   --palette straight --views side --labels "groomed, 35 cm" "--grow 0.02 --steps 5" \
   --title "straight.json grown by 5 x 2 cm"

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <numbers>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <variant>
@@ -61,8 +62,10 @@ class TempDirectory {
 // ---------------------------------------------------------------------------------------------
 // Good files.
 
+// Every example loads and is valid; the examples on the head mesh (each load builds the head's
+// distance grid, so they are checked here rather than loaded again) carry what each file sets.
 TEST(HairstyleJson, ExamplesParse) {
-  int count = 0;
+  std::map<std::string, Hairstyle> loaded;
   for (const auto& entry : std::filesystem::directory_iterator(HairstyleDir())) {
     if (entry.path().extension() != ".json") continue;
     Hairstyle style;
@@ -70,16 +73,51 @@ TEST(HairstyleJson, ExamplesParse) {
     EXPECT_TRUE(LoadHairstyle(entry.path().string(), &style, &error)) << error;
     std::string why;
     EXPECT_TRUE(style.IsValid(&why)) << entry.path() << ": " << why;
-    ++count;
+    loaded[entry.path().stem().string()] = style;
   }
-  EXPECT_GE(count, 1);
+  EXPECT_GE(loaded.size(), 1u);
+  struct Row {
+    const char* name;
+    const char* origin;
+    const char* curl;
+    double length_back;  // m: hair.length (uniform) or its "back"
+    int points_per_strand;
+  };
+  for (const Row& row : {Row{"straight", "asian", "straight", 0.38, 32},
+                         Row{"curly", "caucasian", "curly", 0.28, 48},
+                         Row{"african", "african", "kinky", 0.12, 64},
+                         Row{"ringlets", "caucasian", "curly", 0.45, 64},
+                         Row{"bob", "caucasian", "straight", 0.25, 32}}) {
+    SCOPED_TRACE(row.name);
+    ASSERT_EQ(loaded.count(row.name), 1u);
+    const Hairstyle& s = loaded[row.name];
+    ASSERT_NE(s.body, nullptr);
+    EXPECT_EQ(s.body->meshes().size(), 2u);  // head.obj: "head" and "torso"
+    EXPECT_TRUE(std::holds_alternative<MeshScalp>(s.scalp));
+    EXPECT_GT(s.comb.face_sweep, 0.0);
+    EXPECT_EQ(s.hair_type.origin, row.origin);
+    EXPECT_EQ(s.hair_type.curl, row.curl);
+    EXPECT_EQ(s.regional_length ? s.length_back : s.length, row.length_back);
+    EXPECT_EQ(s.wisps.points_per_strand, row.points_per_strand);
+    EXPECT_EQ(s.roots.count, 1000);
+  }
+  // The ringlets' narrow wisps: a fixed 3-mm radius, no jitter (defined spirals).
+  EXPECT_EQ(loaded["ringlets"].wisps.wisp_radius, 0.003);
+  EXPECT_EQ(loaded["ringlets"].wisps.jitter, 0.0);
+  // The paper's body keeps the four hair types.
+  for (const char* name :
+       {"straight_mannequin", "wavy_mannequin", "curly_mannequin", "african_mannequin"}) {
+    ASSERT_EQ(loaded.count(name), 1u) << name;
+    EXPECT_TRUE(std::holds_alternative<SphereScalp>(loaded[name].scalp)) << name;
+  }
 }
 
 TEST(HairstyleJson, WavyExampleFieldsArriveInTheHairstyle) {
   Hairstyle s;
   std::string error;
-  // The wavy hair on the sphere mannequin (the main job).
-  ASSERT_TRUE(LoadHairstyle(HairstyleDir() + "/wavy.json", &s, &error)) << error;
+  // The wavy hair on the sphere mannequin (the paper's body; the main job's wavy.json before it
+  // moved to the head mesh).
+  ASSERT_TRUE(LoadHairstyle(HairstyleDir() + "/wavy_mannequin.json", &s, &error)) << error;
   ASSERT_NE(s.body, nullptr);
   EXPECT_NE(s.body->FindSphere("head"), nullptr);  // ../bodies/mannequin.json, relative to file
   ASSERT_TRUE(std::holds_alternative<SphereScalp>(s.scalp));
@@ -112,27 +150,33 @@ TEST(HairstyleJson, WavyExampleFieldsArriveInTheHairstyle) {
   EXPECT_EQ(s.layers.thickness, 0.003);
 }
 
-// wavy_head.json: the head mesh, its scalp triangles, the face sweep and the regional
+// wavy.json, the main job: the head mesh, its scalp triangles, the face sweep and the regional
 // length (the values written in the file).
 TEST(HairstyleJson, WavyExampleOnTheHeadMesh) {
   Hairstyle s;
   std::string error;
-  ASSERT_TRUE(LoadHairstyle(HairstyleDir() + "/wavy_head.json", &s, &error)) << error;
+  ASSERT_TRUE(LoadHairstyle(HairstyleDir() + "/wavy.json", &s, &error)) << error;
   ASSERT_NE(s.body, nullptr);
   ASSERT_EQ(s.body->meshes().size(), 2u);  // head.obj: "head" and "torso"
   EXPECT_EQ(s.body->meshes()[0].name(), "head");
   ASSERT_TRUE(std::holds_alternative<MeshScalp>(s.scalp));
   EXPECT_GT(std::get<MeshScalp>(s.scalp).triangles.size(), 1000u);
-  EXPECT_EQ(s.comb.face_sweep, 5.0);
+  EXPECT_EQ(s.comb.face_sweep, 1.5);
+  EXPECT_EQ(s.comb.direction, Vec3(0, -1, -0.3));
+  EXPECT_TRUE(s.comb.parting);
   EXPECT_TRUE(s.regional_length);
-  EXPECT_EQ(s.length_front, 0.2);
-  EXPECT_EQ(s.length_side, 0.3);
-  EXPECT_EQ(s.length_back, 0.3);
-  // L(phi) passes through the three values (RegionalLength's cosine curve).
-  EXPECT_NEAR(RegionalLength(s, 0.0), 0.2, 1e-15);
-  EXPECT_NEAR(RegionalLength(s, std::numbers::pi / 2), 0.3, 1e-15);
-  EXPECT_NEAR(RegionalLength(s, -std::numbers::pi / 2), 0.3, 1e-15);
-  EXPECT_NEAR(RegionalLength(s, std::numbers::pi), 0.3, 1e-15);
+  EXPECT_EQ(s.length_front, 0.13);
+  EXPECT_EQ(s.length_side, 0.25);
+  EXPECT_EQ(s.length_back, 0.32);
+  // L(phi) passes through the three values (RegionalLength's cosine curve) ...
+  EXPECT_NEAR(RegionalLength(s, 0.0), 0.13, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, std::numbers::pi / 2), 0.25, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, -std::numbers::pi / 2), 0.25, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, std::numbers::pi), 0.32, 1e-15);
+  // ... and between them, at 60 degrees: a1 = (F - B) / 2 = -0.095, a0 = ((F + B) / 2 + S) / 2 =
+  // 0.2375, a2 = ((F + B) / 2 - S) / 2 = -0.0125 (by hand), so
+  // L = a0 + a1 cos 60 + a2 cos 120 = 0.2375 - 0.0475 + 0.00625 = 0.19625 m.
+  EXPECT_NEAR(RegionalLength(s, std::numbers::pi / 3), 0.19625, 1e-15);
 }
 
 // A regional length whose cosine curve dips to 0 between its values is refused, naming the field.

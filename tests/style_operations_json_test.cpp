@@ -117,7 +117,7 @@ TEST(StyleOperationsJson, ExampleWithOperationsLoads) {
   std::string error;
   ASSERT_TRUE(LoadHairstyle(HairstyleDir() + "/wavy_styled.json", &style, &ops, &error)) << error;
   ASSERT_GE(ops.size(), 3u);
-  EXPECT_EQ(style.roots.count, 1000);  // the hairstyle itself is wavy.json's
+  EXPECT_EQ(style.roots.count, 1000);  // the hairstyle itself is wavy_mannequin.json's
   // The three-argument LoadHairstyle accepts the same file (what `ringlet groom` reads).
   Hairstyle plain;
   EXPECT_TRUE(LoadHairstyle(HairstyleDir() + "/wavy_styled.json", &plain, &error)) << error;
