@@ -68,7 +68,7 @@ const Head& GetHead() {
     Head h;
     Hairstyle style;
     std::string error;
-    if (!LoadHairstyle(std::string(RINGLET_EXAMPLES_DIR) + "/hairstyles/wavy.json", &style,
+    if (!LoadHairstyle(std::string(RINGLET_EXAMPLES_DIR) + "/hairstyles/wavy_mannequin.json", &style,
                        &error)) {
       std::fprintf(stderr, "%s\n", error.c_str());
       std::abort();
