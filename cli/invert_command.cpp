@@ -109,18 +109,10 @@ void AddHairstyleOutputs(const InvertArgs& args, const std::vector<StrandModel>&
   namespace fs = std::filesystem;
   std::vector<ExplicitMaster> masters(inverted.size());
   for (size_t i = 0; i < inverted.size(); ++i) {
-    const StrandModel& m = inverted[i];
     ExplicitMaster& e = masters[i];
-    e.root_position = m.root_position;
-    e.root_frame = m.root_frame;
-    e.segment_lengths = m.segment_lengths;
-    e.section = m.section;
-    e.material = m.material;
-    e.natural_curvature = m.natural_curvature;
-    e.rest_curvatures = m.rest_curvatures;
+    e = ExplicitMasterOf(inverted[i]);
     e.start_curvatures = targets[i];
-    e.clearance = m.contact.clearance;
-    e.support_offsets = m.contact.support_offsets;
+    e.clearance = inverted[i].contact.clearance;
   }
   // The body file relative to the output directory when it can be (the outputs move together).
   std::error_code body_ec, out_ec;

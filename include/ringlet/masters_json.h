@@ -28,6 +28,10 @@ bool LoadMastersFile(const std::string& path, std::vector<ExplicitMaster>* maste
 /// bit-identical, so ParseMastersText returns the same masters.
 std::string MastersToString(const std::vector<ExplicitMaster>& masters);
 
+/// The explicit master of one model: its root, frame, segments, section, material, natural
+/// curvature, rest shape and support offsets (no start, layer, wisp radius or clearance).
+ExplicitMaster ExplicitMasterOf(const StrandModel& model);
+
 /// The explicit masters that rebuild `masters` bit for bit (BuildMasters with them gives the
 /// same models, layers, wisp radii and clearances): each model's root, frame, segments,
 /// section, material, natural curvature and rest shape, with its layer, wisp radius and

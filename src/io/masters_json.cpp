@@ -366,24 +366,29 @@ std::string MastersToString(const std::vector<ExplicitMaster>& masters) {
   return out;
 }
 
+ExplicitMaster ExplicitMasterOf(const StrandModel& m) {
+  ExplicitMaster e;
+  e.root_position = m.root_position;
+  e.root_frame = m.root_frame;
+  e.segment_lengths = m.segment_lengths;
+  e.section = m.section;
+  e.material = m.material;
+  e.natural_curvature = m.natural_curvature;
+  e.rest_curvatures = m.rest_curvatures;
+  e.support_offsets = m.contact.support_offsets;
+  return e;
+}
+
 std::vector<ExplicitMaster> ExplicitMastersOf(const HairstyleMasters& masters,
                                               const std::vector<VecX>* starts) {
   std::vector<ExplicitMaster> out(masters.models.size());
   for (size_t i = 0; i < out.size(); ++i) {
-    const StrandModel& m = masters.models[i];
     ExplicitMaster& e = out[i];
-    e.root_position = m.root_position;
-    e.root_frame = m.root_frame;
-    e.segment_lengths = m.segment_lengths;
-    e.section = m.section;
-    e.material = m.material;
-    e.natural_curvature = m.natural_curvature;
-    e.rest_curvatures = m.rest_curvatures;
+    e = ExplicitMasterOf(masters.models[i]);
     if (starts && i < starts->size()) e.start_curvatures = (*starts)[i];
     if (i < masters.layers.size()) e.layer = masters.layers[i];
     if (i < masters.wisp_radii.size()) e.wisp_radius = masters.wisp_radii[i];
     if (i < masters.contact_radii.size()) e.clearance = masters.contact_radii[i];
-    e.support_offsets = m.contact.support_offsets;
   }
   return out;
 }
