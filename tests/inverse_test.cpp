@@ -18,6 +18,7 @@
 #include "ringlet/kirchhoff.h"
 #include "ringlet/obstacle.h"
 #include "ringlet/strand_geometry.h"
+#include "ringlet/strand_hessian.h"
 #include "test_util.h"
 
 namespace ringlet {
@@ -405,6 +406,32 @@ TEST(InvertStrand, DrapedOnASphereForcesAreOptimalAndHold) {
     EXPECT_TRUE(r.stable);
     EXPECT_LE(r.deviation, 1e-6 * m.Length());
     EXPECT_GT(r.naive_deviation, 0.01 * m.Length());
+
+    // Supports left at f = 0 carry neither force nor stiffness at the target: each sits off its
+    // shifted surface (x < 0, not x = 0 up to a rounding error of either sign), so the exact
+    // Hessian of the inverted model, the certificate's, equals that of the model with those
+    // supports moved 1e-3 L away (a one-sided contact pulled away from the body has no penalty
+    // stiffness; counting it would certify stability the strand does not have).
+    {
+      StrandModel inverted = m, far = m;
+      inverted.contact.support_offsets = r.support_offsets;
+      far.contact.support_offsets = r.support_offsets;
+      int zero = 0;
+      for (const SupportSample& p : r.supports) {
+        if (p.force > 0.0) continue;
+        ++zero;
+        const size_t at = static_cast<size_t>(p.segment * m.contact.samples_per_segment + p.index);
+        const double x = m.contact.clearance + r.support_offsets[at] -
+                         m.contact.obstacle->SignedDistance(p.position, nullptr);
+        EXPECT_LT(x, 0.0) << "zero-force support " << p.segment << "/" << p.index;
+        far.contact.support_offsets[at] -= 1e-3 * m.Length();
+      }
+      EXPECT_GT(zero, 0);
+      StrandHessian h, h_far;
+      ComputeStrandHessian(inverted, groom.curvatures, &h);
+      ComputeStrandHessian(far, groom.curvatures, &h_far);
+      EXPECT_EQ((h.Dense() - h_far.Dense()).cwiseAbs().maxCoeff(), 0.0);
+    }
 
     // KKT by differences of J(f) (the quadratic of the problem). The penalty cannot pull (f < 0 gives no force), so the
     // derivative is one-sided, (4 J(f + h) - J(f + 2h) - 3 J(f)) / (2h): exact for a quadratic.

@@ -200,6 +200,9 @@ namespace {
 
 // The relative weight of the support forces' ridge (ChooseSupportForces).
 constexpr double kSupportRidge = 1e-5;
+// How far a support left without force is moved off its surface, relative to the strand's
+// length: far above the rounding of a distance (~1e-16 m), far below anything visible.
+constexpr double kZeroForceGap = 1e-9;
 
 // 1/2 sum_i l_i (q0_i - q0nat)^T K (q0_i - q0nat) (J): the elastic energy of bending the natural
 // shape into the rest shape q0.
@@ -305,13 +308,20 @@ ContactModel ChooseSupportForces(const StrandModel& model, const VecX& target,
   VecX f;
   result->nnls_iterations = NonNegativeLeastSquares(augmented, b, &f);
 
-  // The penalty reproduces f_j: x_j = f_j / (k w_j), so clearance + offset_j - d_j = x_j.
+  // The penalty reproduces f_j: x_j = f_j / (k w_j), so clearance + offset_j - d_j = x_j. A
+  // support left at f_j = 0 would sit exactly on its shifted surface (x_j = 0 up to rounding),
+  // where the penalty's second derivative jumps from 0 to w k: whether the Hessian counted that
+  // stiffness would be decided by the sign of a rounding error, and counting it certifies
+  // stiffness that a sample pulled away from the surface does not have (measured on 1,000
+  // groomed wavy masters: ~13 such supports per strand, lowering the smallest scaled eigenvalue
+  // by up to 0.015). So it is moved kZeroForceGap L off the surface: no force, no stiffness.
   for (Eigen::Index c = 0; c < p; ++c) {
     SupportSample& s = supports[static_cast<size_t>(c)];
     s.force = f(c);
     const double w = model.segment_lengths[static_cast<size_t>(s.segment)] / m;
     contact.support_offsets[static_cast<size_t>(s.segment * m + s.index)] =
-        s.force / (stiffness * w) + s.distance;
+        s.force > 0.0 ? s.force / (stiffness * w) + s.distance
+                      : s.distance - kZeroForceGap * model.Length();
     if (s.force > 0.0) {
       ++result->supported_samples;
       result->support_force += s.force;
@@ -349,8 +359,11 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
   // of frictionless contact. When the target is not certified stable with the chosen forces but
   // is with the model's own penalty forces, that rest shape is kept instead (the closest stable
   // alternative, docs/inverse.md), and support_fallback says so.
-  // The smallest eigenvalue is checked too: the block factorization has been seen to pass a
-  // supported target whose eigenvalue estimate was -15 and which the forward solve left.
+  // The smallest eigenvalue is reported too (and must be > 0, as the factorization says). A
+  // finite-difference Hessian is no referee here: its columns cross the penalty's kinks (samples
+  // with x_j smaller than the difference step), and its symmetrized form then has spurious
+  // eigenvalues down to -50 where the energy curves up along every such direction (checked
+  // along the directions on 1,000 groomed wavy masters; StrandHessian matched them).
   result.min_eigenvalue = MinScaledHessianEigenvalue(inverted, target);
   if (!(result.stable && result.min_eigenvalue > 0.0) && !result.support_offsets.empty()) {
     StrandModel plain = model;
