@@ -237,6 +237,12 @@ bad "render --seed -1" "--seed: expected an integer between 0 and 2^53" \
   render "$HAIR" --seed -1 -o "$work/never/image.png"
 bad "render --seed 2^53 + 1" "--seed" render "$HAIR" --seed 9007199254740993 \
   -o "$work/never/image.png"
+# A bad number 60 levels deep under long keys (the hairstyle_json fuzzer's long run): the path
+# in the message is cut in its middle (kMaxShownPath = 400 bytes), not quoted whole (2,178).
+bad "bad number under a 2-KB path" 'up[0]: expected a finite number, got 1e+308900799254740' \
+  groom "$DATA/long_path_hairstyle.json" -o "$work/never"
+length=$(head -c 100000 "$work/stderr" | wc -c)
+[ "$length" -lt 700 ] && ok || fail "long path: the message has $length bytes"
 # --settings must hold settings.
 bad "--settings without render" "settings_without_render.json: render: missing required field" \
   render "$HAIR" --settings "$DATA/settings_without_render.json" -o "$work/never/image.png"

@@ -825,6 +825,34 @@ TEST(JsonReader, NestingIsLimitedWhileParsing) {
   EXPECT_LT(error.size(), 300u) << error;
 }
 
+// A bad value deep under long keys: the path in the message keeps its start and its end (the
+// part that names the value) and stays within kMaxShownPath, however deep and long the keys.
+TEST(JsonReader, PathsInMessagesAreBounded) {
+  const std::string key(58, 'k');  // quoted keys are cut to kMaxShownCharacters anyway
+  std::string text = "{\"strands\": [";
+  const int levels = internal::kMaxJsonDepth - 4;
+  for (int i = 0; i < levels; ++i) text += "{\"" + key + std::to_string(i) + "\": ";
+  text += "[1e999]";
+  for (int i = 0; i < levels; ++i) text += "}";
+  text += "]}";
+  json document;
+  std::string error;
+  ASSERT_FALSE(internal::ParseJsonText(text, &document, &error));
+  // Unbounded, the path alone would be ~60 levels x 60 bytes = 3.6 KB.
+  EXPECT_LT(error.size(), internal::kMaxShownPath + internal::kMaxMessage) << error;
+  EXPECT_EQ(error.rfind("strands[0]." + key.substr(0, 20), 0), 0u) << error;
+  EXPECT_NE(error.find("..."), std::string::npos) << error;
+  EXPECT_NE(error.find(key + std::to_string(levels - 1) + "[0]: "), std::string::npos) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos);
+  // Member and Element themselves never return more than kMaxShownPath bytes.
+  std::string path;
+  for (int i = 0; i < 1000; ++i) {
+    path = i % 2 ? internal::Element(path, 123456789) : internal::Member(path, key);
+    ASSERT_LE(path.size(), internal::kMaxShownPath);
+  }
+  EXPECT_EQ(path.substr(path.size() - 11), "[123456789]");
+}
+
 TEST(JsonReader, ShowIsBoundedForDeepLongAndLargeValues) {
   // Deep: built by hand (the parser would refuse it), walked without recursion.
   json deep = json::array();

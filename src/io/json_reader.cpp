@@ -132,25 +132,43 @@ bool IsPlainKey(const std::string& key) {
   });
 }
 
+namespace {
+
+// Paths are ASCII (keys are escaped), so any byte is a character boundary. The first third of
+// the budget keeps the path's start, the rest its end; cutting again an already cut path keeps
+// its start, so deep paths stay bounded level after level.
+constexpr size_t kPathHead = kMaxShownPath / 3;
+constexpr const char* kPathCut = "...";
+
+std::string BoundPath(std::string path) {
+  if (path.size() <= kMaxShownPath) return path;
+  const size_t tail = kMaxShownPath - kPathHead - 3;
+  return path.substr(0, kPathHead) + kPathCut + path.substr(path.size() - tail);
+}
+
+}  // namespace
+
 // The path of a member: "strands[0]" + "radius" -> "strands[0].radius"; odd keys are quoted
 // (escaped, ASCII only) so that a message always stays on one line: strands[0]["a\nb"].
 std::string Member(const std::string& path, const std::string& key) {
   // A key of any length is shown cut to kMaxShownCharacters (marked with "...", and then always
-  // quoted), so that a path, too, stays short whatever the file holds.
+  // quoted), and the whole path to kMaxShownPath, so that a path, too, stays short whatever the
+  // file holds.
   if (key.size() > kMaxShownCharacters) {
-    return path + "[" +
-           Truncate(json(Truncate(key, kMaxShownCharacters))
-                        .dump(-1, ' ', true, json::error_handler_t::replace),
-                    kMaxShownCharacters + 8) +
-           "]";
+    return BoundPath(path + "[" +
+                     Truncate(json(Truncate(key, kMaxShownCharacters))
+                                  .dump(-1, ' ', true, json::error_handler_t::replace),
+                              kMaxShownCharacters + 8) +
+                     "]");
   }
-  if (IsPlainKey(key)) return path.empty() ? key : path + "." + key;
-  return path + "[" + json(key).dump(-1, ' ', true, json::error_handler_t::replace) + "]";
+  if (IsPlainKey(key)) return BoundPath(path.empty() ? key : path + "." + key);
+  return BoundPath(path + "[" + json(key).dump(-1, ' ', true, json::error_handler_t::replace) +
+                   "]");
 }
 
 // The path of an array element: "strands" + 2 -> "strands[2]".
 std::string Element(const std::string& path, size_t index) {
-  return path + "[" + std::to_string(index) + "]";
+  return BoundPath(path + "[" + std::to_string(index) + "]");
 }
 
 // text cut to at most max_bytes, at a UTF-8 character boundary, marked with "...".

@@ -22,6 +22,9 @@ using nlohmann::json;
 
 // Values quoted in error messages are cut to this many characters.
 constexpr size_t kMaxShownCharacters = 60;
+// A path in a message is at most this long: a longer one (64 levels of 60-character keys reach
+// ~4 KB) keeps its start and its end, the part nearest the value, around "...".
+constexpr size_t kMaxShownPath = 400;
 // nlohmann's own messages (which quote the text read) are cut to this many characters.
 constexpr size_t kMaxMessage = 200;
 // Unknown fields this close (edit distance) to a known one get a "did you mean" hint.
@@ -41,6 +44,7 @@ constexpr double kMaxFloatInteger = 2147483648.0;  // 2^31
 bool IsPlainKey(const std::string& key);
 // The path of a member: "strands[0]" + "radius" -> "strands[0].radius"; odd keys are quoted
 // (escaped, ASCII only) so that a message always stays on one line: strands[0]["a\nb"].
+// Paths stay within kMaxShownPath bytes (both functions).
 std::string Member(const std::string& path, const std::string& key);
 // The path of an array element: "strands" + 2 -> "strands[2]".
 std::string Element(const std::string& path, size_t index);
