@@ -229,6 +229,30 @@ TEST(PointForceGradient, MatchesFiniteDifferencesOfTheWork) {
   }
 }
 
+// The batched columns equal the single ones bit for bit (the same operations in the same order),
+// with several forces per segment, forces in the first and the last segment, and none in some.
+TEST(PointForceGradients, EqualTheSingleColumnsBitForBit) {
+  const int n = 9;
+  StrandModel m = MakeStrand(0.3, n, 0.3, Vec3(25.0, -10.0, 8.0), RandomRotation(5));
+  const VecX q = m.NaturalCurvatures() + RandomCurvatures(n, 10.0, 6);
+  std::vector<PointForce> forces;
+  for (auto [segment, fraction] : {std::pair{0, 0.5}, std::pair{0, 1.0}, std::pair{3, 0.25},
+                                   std::pair{3, 0.75}, std::pair{3, 1.0}, std::pair{4, 0.5},
+                                   std::pair{8, 1.0}}) {
+    forces.push_back({segment, fraction * m.segment_lengths[segment],
+                      Vec3(0.3 * segment - 1.0, std::cos(fraction * 7.0), 0.5)});
+  }
+  const MatX all = PointForceGradients(m, q, forces);
+  ASSERT_EQ(all.rows(), 3 * n);
+  ASSERT_EQ(all.cols(), static_cast<Eigen::Index>(forces.size()));
+  for (size_t c = 0; c < forces.size(); ++c) {
+    const VecX single = PointForceGradient(m, q, forces[c].segment, forces[c].u, forces[c].force);
+    ASSERT_GT(single.norm(), 0.0);
+    EXPECT_EQ(all.col(static_cast<Eigen::Index>(c)), single) << c;
+  }
+  EXPECT_EQ(PointForceGradients(m, q, {}).cols(), 0);
+}
+
 // ContactModel::support_offsets: the contact energy's gradient with per-sample clearances
 // against central differences of the energy (a curly strand pressed into a sphere, offsets of
 // both signs), so the forward model and the inversion's closed form agree on them; and a wrong
@@ -266,7 +290,9 @@ TEST(SupportOffsets, GradientMatchesFiniteDifferencesAndSizeIsChecked) {
 // Lawson-Hanson against brute force: the NNLS minimum is the best of the unconstrained least
 // squares solutions on every subset of the columns that are feasible (x >= 0), enumerated here
 // (2^6 subsets), for random 9x6 problems; and the KKT conditions hold.
+// Both forms: QR of the passive columns and the normal equations (well-conditioned columns).
 TEST(NonNegativeLeastSquares, MatchesEnumerationOfActiveSetsAndKkt) {
+  for (auto* solve : {&NonNegativeLeastSquares, &NonNegativeLeastSquaresNormal}) {
   std::mt19937_64 rng(11);
   std::normal_distribution<double> normal(0.0, 1.0);
   int constrained = 0;
@@ -279,7 +305,7 @@ TEST(NonNegativeLeastSquares, MatchesEnumerationOfActiveSetsAndKkt) {
       b(i) = normal(rng);
     }
     VecX x;
-    const int iterations = NonNegativeLeastSquares(a, b, &x);
+    const int iterations = solve(a, b, &x);
     ASSERT_GE(iterations, 0);
     double best = (b).squaredNorm();  // the empty subset: x = 0
     for (int mask = 1; mask < (1 << cols); ++mask) {
@@ -309,6 +335,7 @@ TEST(NonNegativeLeastSquares, MatchesEnumerationOfActiveSetsAndKkt) {
     }
   }
   EXPECT_GT(constrained, 10);  // anti-vacuity: the bound is active in many of them
+  }
 }
 
 // A heavy straight rod clamped horizontally with its tip resting on a sphere (a propped

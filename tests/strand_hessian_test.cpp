@@ -144,6 +144,31 @@ TEST(ContactHessian, MatchesFiniteDifferencesOnADrapedStrand) {
             1e-2 * with.Dense().cwiseAbs().maxCoeff());
 }
 
+// The eigenvalue from a Hessian already computed (what the inversion does) against the one that
+// computes its own, and against a dense eigensolver of the scaled Hessian.
+TEST(MinScaledHessianEigenvalue, FromAComputedHessianAgrees) {
+  VecX q;
+  const StrandModel m = DrapedStrand(std::make_shared<SphereObstacle>(Vec3::Zero(), 0.1), &q);
+  StrandHessian h;
+  ComputeStrandHessian(m, q, &h);
+  const double from_hessian = MinScaledHessianEigenvalue(m, h);
+  const double own = MinScaledHessianEigenvalue(m, q);
+  EXPECT_NEAR(from_hessian, own, 1e-12 * std::abs(own));
+  const int n = m.NumSegments();
+  VecX s(3 * n);
+  for (int i = 0; i < n; ++i) {
+    s.segment<3>(3 * i) = (m.segment_lengths[i] * m.Stiffness()).cwiseSqrt().cwiseInverse();
+  }
+  const MatX scaled = s.asDiagonal() * h.Dense() * s.asDiagonal();
+  const double dense = Eigen::SelfAdjointEigenSolver<MatX>(scaled).eigenvalues()(0);
+  ASSERT_GT(dense, 0.0);
+  ASSERT_LT(dense, 0.9);  // the loads matter (1 = no load)
+  // Inverse iteration's Rayleigh quotient: from above, within a few percent here (it converges
+  // as (lambda_1 / lambda_2)^(2k) and this strand's two smallest are close).
+  EXPECT_GE(from_hessian, dense * (1.0 - 1e-12));
+  EXPECT_LE(from_hessian, dense * 1.03);
+}
+
 TEST(ContactHessian, MatchesFiniteDifferencesOnBlendedAndMeshBodies) {
   // Two overlapping spheres with a smooth union, then a closed mesh (an octahedron under the
   // strand): the bodies' exact distance Hessians.

@@ -3,6 +3,7 @@
 // and the fit of target polylines by G1 piecewise helices.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,20 @@ VecX InverseRestCurvatures(const StrandModel& model, const VecX& target);
 VecX PointForceGradient(const StrandModel& model, const VecX& curvatures, int segment, double u,
                         const Vec3& force);
 
+/// A point force on the strand: unit-free direction and place (PointForceGradients).
+struct PointForce {
+  int segment = 0;             ///< segment index
+  double u = 0.0;              ///< arc length inside the segment (m, 0 < u <= l_segment)
+  Vec3 force = Vec3::Zero();   ///< F (N, world)
+};
+
+/// The columns PointForceGradient(model, curvatures, f.segment, f.u, f.force) of every force,
+/// bit for bit, as a 3n x p matrix, in one forward and one reverse sweep: each segment's closed
+/// forms are evaluated once and shared by every force downstream of it (O(n + p n) instead of
+/// the p separate sweeps' O(p n) helix evaluations). Forces must be sorted by segment.
+MatX PointForceGradients(const StrandModel& model, const VecX& curvatures,
+                         const std::vector<PointForce>& forces);
+
 /// Non-negative least squares: x >= 0 minimizing |A x - b|^2, by the active-set method of
 /// Lawson and Hanson ("Solving Least Squares Problems", 1974, ch. 23, algorithm NNLS), the
 /// columns scaled to unit norm, the passive subproblems solved by column-pivoted QR. Columns that
@@ -39,6 +54,13 @@ VecX PointForceGradient(const StrandModel& model, const VecX& curvatures, int se
 /// last feasible iterate). On return x satisfies x >= 0 and, at termination, the KKT conditions
 /// A^T (b - A x) <= tol and x_j (A^T (b - A x))_j = 0 to rounding.
 int NonNegativeLeastSquares(const MatX& a, const VecX& b, VecX* x);
+
+/// The same algorithm on the normal equations: the Gram matrix A^T A is formed once (cols^2 rows
+/// operations) and every passive subproblem is an LDL^T of a principal submatrix of it, instead
+/// of a QR of the passive columns. It squares the condition number, so it is for problems whose
+/// columns are well conditioned or regularized: the inversion's support forces, whose ridge rows
+/// bound it (ChooseSupportForces; measured there 10x faster than the QR form on 169 x 19).
+int NonNegativeLeastSquaresNormal(const MatX& a, const VecX& b, VecX* x);
 
 /// A contact sample of the target that lies on the clearance surface of the body (within
 /// InverseOptions::support_tolerance) and may carry a normal support force (N >= 0), an unknown
@@ -123,7 +145,8 @@ struct InverseResult {
   double min_eigenvalue = 0.0;
   /// Kirchhoff's balance at the target with the inverted rest shape (KirchhoffResidual, by
   /// quadrature, independent of the gradient code that gave q0): ~1e-15 when q0 is right.
-  double kirchhoff_residual = 0.0;
+  /// Part of the verification: NaN when InverseOptions::verify is off.
+  double kirchhoff_residual = std::numeric_limits<double>::quiet_NaN();
   /// The forward solve from q0 started at the target (when verify): its equilibrium and summary.
   /// For a stable target it stays there; for an unstable one, the solver leaves the target along
   /// the most negative curvature direction and settles in the nearest stable equilibrium of the

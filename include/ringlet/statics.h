@@ -7,6 +7,7 @@
 #include "ringlet/energy.h"
 #include "ringlet/kirchhoff.h"
 #include "ringlet/math.h"
+#include "ringlet/strand_hessian.h"
 #include "ringlet/strand_model.h"
 
 namespace ringlet {
@@ -117,5 +118,9 @@ StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options
 /// receives the matching eigenvector in curvature space.
 double MinScaledHessianEigenvalue(const StrandModel& model, const VecX& curvatures,
                                   VecX* direction = nullptr);
+/// The same from the exact Hessian in curvatures already computed at that configuration
+/// (ComputeStrandHessian(model, curvatures, &hessian)): the same value (up to the rounding of
+/// the curvatures' round trip through the scaled variables) without computing the Hessian again.
+double MinScaledHessianEigenvalue(const StrandModel& model, StrandHessian hessian);
 
 }  // namespace ringlet

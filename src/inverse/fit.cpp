@@ -38,9 +38,17 @@ constexpr int kWindow = 2;
 // The global refinement stops after this many rejected steps in a row (damping raised 4^6 =
 // 4096 times without lowering the cost: the cost is at its floor).
 constexpr int kMaxAttempts = 6;
-// The global refinement stops when a step lowers the cost by less than this fraction (a zero-
-// residual fit converges quadratically and reaches rounding before).
-constexpr double kRelativeDecrease = 1e-6;
+// Levenberg-Marquardt stops when a step lowers the cost by less than this fraction of it: a
+// zero-residual fit converges quadratically and reaches rounding before; a polyline that is no
+// piecewise helix (float points, points between the breaks) has a cost floor, which the steps
+// then approach linearly, ever more slowly. Measured on 200 wavy masters of 50 segments (float
+// points, no frames), against 1e-6 everywhere: the fit distances change by < 7 % (mean RMS
+// 2.13e-6 L against 2.00e-6 L for 100 points; 3.0e-9 L both for 201 points) in 1/6 of the time.
+//  - the global refinement (the result);
+constexpr double kRelativeDecrease = 1e-3;
+//  - the 2-segment windows and the single segments of the root-to-tip pass, when the global
+//    refinement follows (they only give it its starting point).
+constexpr double kStartRelativeDecrease = 1e-2;
 
 // The fit of one segment: start (r0, Q0), target points in the start frame W_1..W_k (the last
 // one is the segment's end). Unknowns y = (Omega (3), l, sigma_1 .. sigma_(k-1)); residuals
@@ -97,7 +105,7 @@ void ArcGuess(const Vec3& c, Vec3* omega, double* length) {
 }
 
 SegmentFit FitSegment(const std::vector<Vec3>& w, const std::vector<double>& edge_fraction,
-                      int max_iterations) {
+                      int max_iterations, double relative_decrease) {
   const int k = static_cast<int>(w.size());
   VecX y(k + 3);
   Vec3 omega;
@@ -144,6 +152,7 @@ SegmentFit FitSegment(const std::vector<Vec3>& w, const std::vector<double>& edg
       SegmentResiduals(trial, w, &trial_residual, nullptr);
       const double trial_cost = trial_residual.squaredNorm();
       if (trial_cost < cost) {
+        if (cost - trial_cost <= relative_decrease * cost) tiny = true;
         y = trial;
         SegmentResiduals(y, w, &residual, &jacobian);
         cost = residual.squaredNorm();
@@ -393,7 +402,7 @@ Chain Step(const Chain& c, const std::vector<int>& b, std::vector<Stage>* stages
 
 // Levenberg-Marquardt on the whole chain from c; returns the iterations made.
 int RefineChain(const std::vector<Vec3>& points, const std::vector<int>& b, bool free_root,
-                int max_iterations, Chain* c) {
+                int max_iterations, double relative_decrease, Chain* c) {
   std::vector<Stage> stages;
   double cost = ChainCost(points, b, *c, nullptr);
   double mu = kInitialDamping;
@@ -424,7 +433,7 @@ int RefineChain(const std::vector<Vec3>& points, const std::vector<int>& b, bool
         improved = true;
         // Converged when a step no longer changes the cost (relative): the noise floor of a
         // polyline that is no piecewise helix, or rounding.
-        if (decrease <= kRelativeDecrease * (cost + decrease)) tiny = true;
+        if (decrease <= relative_decrease * (cost + decrease)) tiny = true;
         break;
       }
       mu *= kDampingUp;
@@ -453,7 +462,7 @@ Vec3 RootTangent(const std::vector<Vec3>& points) {
 // The fit of one segment alone from the frame (r, q) (FitSegment on the points of segment i in
 // that frame); fills the segment's unknowns in *chain.
 int GreedySegment(const std::vector<Vec3>& points, const std::vector<int>& b, int i, const Vec3& r,
-                  const Mat3& q, int max_iterations, Chain* chain) {
+                  const Mat3& q, int max_iterations, double relative_decrease, Chain* chain) {
   const int b0 = b[static_cast<size_t>(i)], b1 = b[static_cast<size_t>(i) + 1];
   std::vector<Vec3> w;
   std::vector<double> fraction;
@@ -465,7 +474,7 @@ int GreedySegment(const std::vector<Vec3>& points, const std::vector<int>& b, in
     acc += (points[p] - points[p - 1]).norm();
     fraction.push_back(acc / total);
   }
-  const SegmentFit f = FitSegment(w, fraction, max_iterations);
+  const SegmentFit f = FitSegment(w, fraction, max_iterations, relative_decrease);
   chain->omega[static_cast<size_t>(i)] = f.omega;
   chain->length[static_cast<size_t>(i)] = f.length;
   for (int p = b0 + 1; p < b1; ++p) {
@@ -488,6 +497,8 @@ void FitWithSegments(const std::vector<Vec3>& points, const Mat3& root_frame, bo
   fit->iterations = 0;
   int window = kWindow;
   if (options.refine_iterations == 0) window = 1;
+  // Without a refinement the single segments are the result: fitted to the end (rounding).
+  const double start_decrease = options.refine_iterations == 0 ? 0.0 : kStartRelativeDecrease;
   // Segments [i, i + window) are fitted together from the frame (r, q) at the start of segment
   // i (the root's tilt free in the first window), then segment i is kept: its end tangent is
   // fitted to the following segments' points too, so that the noise of one segment's points is
@@ -502,7 +513,8 @@ void FitWithSegments(const std::vector<Vec3>& points, const Mat3& root_frame, bo
     Vec3 re = r;
     for (int k = i; k < last; ++k) {
       if (k >= initialized) {
-        fit->iterations += GreedySegment(points, b, k, re, qe, options.max_iterations, &chain);
+        fit->iterations += GreedySegment(points, b, k, re, qe, options.max_iterations,
+                                         start_decrease, &chain);
         initialized = k + 1;
       }
       const HelixSegment seg = EvaluateHelixSegment(chain.omega[static_cast<size_t>(k)],
@@ -524,7 +536,8 @@ void FitWithSegments(const std::vector<Vec3>& points, const Mat3& root_frame, bo
       }
       sub.sigma.assign(chain.sigma.begin() + p0, chain.sigma.begin() + b[static_cast<size_t>(last)] + 1);
       fit->iterations +=
-          RefineChain(sub_points, sub_b, free_root && i == 0, options.refine_iterations, &sub);
+          RefineChain(sub_points, sub_b, free_root && i == 0, options.refine_iterations,
+                      kStartRelativeDecrease, &sub);
       for (int k = i; k < last; ++k) {
         chain.omega[static_cast<size_t>(k)] = sub.omega[static_cast<size_t>(k - i)];
         chain.length[static_cast<size_t>(k)] = sub.length[static_cast<size_t>(k - i)];
@@ -541,7 +554,8 @@ void FitWithSegments(const std::vector<Vec3>& points, const Mat3& root_frame, bo
     q = q * seg.rotation;
   }
   if (options.refine_iterations > 0) {
-    fit->iterations += RefineChain(points, b, free_root, options.refine_iterations, &chain);
+    fit->iterations += RefineChain(points, b, free_root, options.refine_iterations,
+                                   kRelativeDecrease, &chain);
   }
   if (free_root) {
     // Back to the n1 rule for the refined tangent: F = Q0 Rz with Rz a turn about e3; the same

@@ -98,30 +98,65 @@ VecX PointForceGradient(const StrandModel& model, const VecX& curvatures, int se
   return gradient;
 }
 
-int NonNegativeLeastSquares(const MatX& a, const VecX& b, VecX* x) {
-  const Eigen::Index rows = a.rows(), cols = a.cols();
-  assert(b.size() == rows);
-  x->setZero(cols);
-  if (cols == 0) return 0;
-  // Unit columns (zero columns stay out): the tolerance below is then relative.
-  VecX scale(cols);
-  MatX as = a;
-  for (Eigen::Index j = 0; j < cols; ++j) {
-    const double norm = a.col(j).norm();
-    scale(j) = norm > 0.0 ? 1.0 / norm : 0.0;
-    as.col(j) *= scale(j);
+MatX PointForceGradients(const StrandModel& model, const VecX& curvatures,
+                         const std::vector<PointForce>& forces) {
+  const int n = model.NumSegments();
+  const Eigen::Index p = static_cast<Eigen::Index>(forces.size());
+  assert(curvatures.size() == 3 * n);
+  MatX gradient = MatX::Zero(3 * n, p);
+  if (p == 0) return gradient;
+  const StrandGeometry g = ComputeGeometry(model, curvatures);
+  // The same operations as PointForceGradient, column by column, in the same order: forces
+  // [begin, p) lie past segment k and carry q_bar = dE/dQ_(k+1) (r_bar = -F is constant).
+  std::vector<Mat3> q_bar(static_cast<size_t>(p));
+  Eigen::Index begin = p;
+  for (int k = n - 1; k >= 0; --k) {
+    const Vec3 omega_k = curvatures.segment<3>(3 * k);
+    const Mat3& q_k = g.frames[static_cast<size_t>(k)];
+    if (begin < p) {
+      const double l = model.segment_lengths[static_cast<size_t>(k)];
+      const HelixSegment s = EvaluateHelixSegment(omega_k, l);
+      for (Eigen::Index c = begin; c < p; ++c) {
+        const Vec3 r_bar = -forces[static_cast<size_t>(c)].force;
+        Mat3& qb = q_bar[static_cast<size_t>(c)];
+        gradient.block<3, 1>(3 * k, c) = HelixSegmentVjp(
+            omega_k, l, s.functions, q_k.transpose() * qb, q_k.transpose() * r_bar, Vec3::Zero());
+        qb = qb * s.rotation.transpose() + r_bar * s.chord.transpose();
+      }
+    }
+    // The forces inside segment k: their own partial chords.
+    while (begin > 0 && forces[static_cast<size_t>(begin - 1)].segment == k) {
+      --begin;
+      const PointForce& f = forces[static_cast<size_t>(begin)];
+      const Vec3 de_dx = -f.force;
+      const HelixFunctions functions = EvaluateHelixFunctions(omega_k.norm() * f.u);
+      const Vec3 h = HelixChordFromFunctions(omega_k, f.u, functions);
+      gradient.block<3, 1>(3 * k, begin) =
+          HelixChordVjp(omega_k, f.u, functions, q_k.transpose() * de_dx);
+      q_bar[static_cast<size_t>(begin)] = de_dx * h.transpose();
+    }
   }
-  // Lawson & Hanson's tolerance on the dual vector w = A^T (b - A x) (as scipy's nnls).
-  const double tolerance = 10.0 * std::numeric_limits<double>::epsilon() *
-                           static_cast<double>(std::max(rows, cols)) *
-                           std::max(1.0, b.norm());
+  assert(begin == 0);  // sorted by segment, every segment in [0, n)
+  return gradient;
+}
+
+namespace {
+
+// Lawson & Hanson's active-set loop on variables y of unit-norm columns (zero columns, scale 0,
+// stay out). dual(y) gives w = A^T (b - A y); solve(set) the unconstrained least squares on the
+// passive columns `set` (ascending). Returns the outer iterations, -1 past max_outer.
+template <class Dual, class Solve>
+int LawsonHanson(const VecX& scale, double tolerance, const Dual& dual, const Solve& solve,
+                 VecX* y_out) {
+  const Eigen::Index cols = scale.size();
   std::vector<bool> passive(static_cast<size_t>(cols), false);
-  VecX y = VecX::Zero(cols);  // the solution in scaled variables
+  VecX y = VecX::Zero(cols);
   const int max_outer = 3 * static_cast<int>(cols + 1);
   int outer = 0;
+  std::vector<Eigen::Index> set;
   while (true) {
     // Dual vector; stop when no variable out of the passive set can decrease the residual.
-    const VecX w = as.transpose() * (b - as * y);
+    const VecX w = dual(y);
     Eigen::Index t = -1;
     double best = tolerance;
     for (Eigen::Index j = 0; j < cols; ++j) {
@@ -139,13 +174,11 @@ int NonNegativeLeastSquares(const MatX& a, const VecX& b, VecX* x) {
     // Inner loop: the unconstrained least squares on the passive set, stepping back to the
     // feasible segment (and dropping the variables that reach 0) while it has components <= 0.
     while (true) {
-      std::vector<Eigen::Index> set;
+      set.clear();
       for (Eigen::Index j = 0; j < cols; ++j) {
         if (passive[static_cast<size_t>(j)]) set.push_back(j);
       }
-      MatX ap(rows, static_cast<Eigen::Index>(set.size()));
-      for (size_t k = 0; k < set.size(); ++k) ap.col(static_cast<Eigen::Index>(k)) = as.col(set[k]);
-      const VecX zp = ap.colPivHouseholderQr().solve(b);
+      const VecX zp = solve(set);
       VecX z = VecX::Zero(cols);
       bool feasible = true;
       for (size_t k = 0; k < set.size(); ++k) {
@@ -179,6 +212,76 @@ int NonNegativeLeastSquares(const MatX& a, const VecX& b, VecX* x) {
       if (std::none_of(passive.begin(), passive.end(), [](bool p) { return p; })) break;
     }
   }
+  *y_out = y;
+  return outer;
+}
+
+// Lawson & Hanson's tolerance on the dual vector (as scipy's nnls).
+double DualTolerance(Eigen::Index rows, Eigen::Index cols, double b_norm) {
+  return 10.0 * std::numeric_limits<double>::epsilon() *
+         static_cast<double>(std::max(rows, cols)) * std::max(1.0, b_norm);
+}
+
+}  // namespace
+
+int NonNegativeLeastSquares(const MatX& a, const VecX& b, VecX* x) {
+  const Eigen::Index rows = a.rows(), cols = a.cols();
+  assert(b.size() == rows);
+  x->setZero(cols);
+  if (cols == 0) return 0;
+  // Unit columns (zero columns stay out): the tolerance is then relative.
+  VecX scale(cols);
+  MatX as = a;
+  for (Eigen::Index j = 0; j < cols; ++j) {
+    const double norm = a.col(j).norm();
+    scale(j) = norm > 0.0 ? 1.0 / norm : 0.0;
+    as.col(j) *= scale(j);
+  }
+  VecX y;
+  const int outer = LawsonHanson(
+      scale, DualTolerance(rows, cols, b.norm()),
+      [&](const VecX& v) -> VecX { return as.transpose() * (b - as * v); },
+      [&](const std::vector<Eigen::Index>& set) -> VecX {
+        MatX ap(rows, static_cast<Eigen::Index>(set.size()));
+        for (size_t k = 0; k < set.size(); ++k) ap.col(static_cast<Eigen::Index>(k)) = as.col(set[k]);
+        return ap.colPivHouseholderQr().solve(b);
+      },
+      &y);
+  *x = y.cwiseProduct(scale);
+  return outer;
+}
+
+int NonNegativeLeastSquaresNormal(const MatX& a, const VecX& b, VecX* x) {
+  const Eigen::Index rows = a.rows(), cols = a.cols();
+  assert(b.size() == rows);
+  x->setZero(cols);
+  if (cols == 0) return 0;
+  MatX gram = MatX::Zero(cols, cols);
+  gram.selfadjointView<Eigen::Lower>().rankUpdate(a.transpose());
+  gram.triangularView<Eigen::StrictlyUpper>() = gram.transpose();
+  VecX scale(cols);
+  for (Eigen::Index j = 0; j < cols; ++j) {
+    scale(j) = gram(j, j) > 0.0 ? 1.0 / std::sqrt(gram(j, j)) : 0.0;
+  }
+  gram = scale.asDiagonal() * gram * scale.asDiagonal();
+  const VecX atb = scale.cwiseProduct(a.transpose() * b);
+  VecX y;
+  const int outer = LawsonHanson(
+      scale, DualTolerance(rows, cols, b.norm()),
+      [&](const VecX& v) -> VecX { return atb - gram * v; },
+      [&](const std::vector<Eigen::Index>& set) -> VecX {
+        const Eigen::Index k = static_cast<Eigen::Index>(set.size());
+        MatX gp(k, k);
+        VecX cp(k);
+        for (Eigen::Index i = 0; i < k; ++i) {
+          cp(i) = atb(set[static_cast<size_t>(i)]);
+          for (Eigen::Index j = 0; j < k; ++j) {
+            gp(i, j) = gram(set[static_cast<size_t>(i)], set[static_cast<size_t>(j)]);
+          }
+        }
+        return gp.ldlt().solve(cp);
+      },
+      &y);
   *x = y.cwiseProduct(scale);
   return outer;
 }
@@ -275,11 +378,12 @@ ContactModel ChooseSupportForces(const StrandModel& model, const VecX& target,
     weight.segment<3>(3 * i) = lk.cwiseSqrt();
   }
   const Eigen::Index p = static_cast<Eigen::Index>(supports.size());
-  MatX a(3 * n, p);
+  std::vector<PointForce> unit_forces;  // supports are in order of segment
+  unit_forces.reserve(supports.size());
+  for (const SupportSample& s : supports) unit_forces.push_back({s.segment, s.u, s.normal});
+  MatX a = PointForceGradients(model, target, unit_forces);
   for (Eigen::Index c = 0; c < p; ++c) {
-    const SupportSample& s = supports[static_cast<size_t>(c)];
-    a.col(c) = weight.cwiseProduct(inverse_stiffness.cwiseProduct(
-        PointForceGradient(model, target, s.segment, s.u, s.normal)));
+    a.col(c) = weight.cwiseProduct(inverse_stiffness.cwiseProduct(a.col(c)));
   }
   // min |W (q0_free + (lK)^(-1) A f - q0nat)|^2, f >= 0, plus a tiny ridge. With m samples per
   // segment and 3 rows per segment the columns are dependent: many force distributions give the
@@ -306,7 +410,7 @@ ContactModel ChooseSupportForces(const StrandModel& model, const VecX& target,
     b(3 * n + c) = augmented(3 * n + c, c) * penalty;
   }
   VecX f;
-  result->nnls_iterations = NonNegativeLeastSquares(augmented, b, &f);
+  result->nnls_iterations = NonNegativeLeastSquaresNormal(augmented, b, &f);
 
   // The penalty reproduces f_j: x_j = f_j / (k w_j), so clearance + offset_j - d_j = x_j. A
   // support left at f_j = 0 would sit exactly on its shifted surface (x_j = 0 up to rounding),
@@ -364,13 +468,13 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
   // with x_j smaller than the difference step), and its symmetrized form then has spurious
   // eigenvalues down to -50 where the energy curves up along every such direction (checked
   // along the directions on 1,000 groomed wavy masters; StrandHessian matched them).
-  result.min_eigenvalue = MinScaledHessianEigenvalue(inverted, target);
+  result.min_eigenvalue = MinScaledHessianEigenvalue(inverted, hessian);
   if (!(result.stable && result.min_eigenvalue > 0.0) && !result.support_offsets.empty()) {
     StrandModel plain = model;
     plain.contact.support_offsets.clear();
     plain.rest_curvatures = InverseRestCurvatures(plain, target);
     ComputeStrandHessian(plain, target, &hessian);
-    if (factor.Factor(hessian, 0.0) && MinScaledHessianEigenvalue(plain, target) > 0.0) {
+    if (factor.Factor(hessian, 0.0) && MinScaledHessianEigenvalue(plain, hessian) > 0.0) {
       inverted = plain;
       result.rest_curvatures = plain.rest_curvatures;
       result.rest_energy = result.rest_energy_unsupported;
@@ -381,13 +485,14 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
       result.support_fallback = true;
       result.stable = true;
       result.failed_segment = -1;
-      result.min_eigenvalue = MinScaledHessianEigenvalue(inverted, target);
+      result.min_eigenvalue = MinScaledHessianEigenvalue(inverted, hessian);
     }
   }
-  result.kirchhoff_residual = KirchhoffResidual(inverted, target);
   const double length = model.Length();
 
   if (options.verify) {
+    // Kirchhoff's balance by quadrature: an independent check of the closed form's q0.
+    result.kirchhoff_residual = KirchhoffResidual(inverted, target);
     StrandSolution forward = SolveStrand(inverted, options.solver, &target);
     result.deviation =
         CentrelineDeviation(model, target, forward.curvatures, options.points_per_segment);
@@ -408,8 +513,8 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
   std::string m = result.stable ? "stable target" : "UNSTABLE target (pivot of segment " +
                                                          std::to_string(result.failed_segment) +
                                                          " not positive definite)";
-  m += ", min scaled eigenvalue " + Number(result.min_eigenvalue) + ", Kirchhoff residual " +
-       Number(result.kirchhoff_residual);
+  m += ", min scaled eigenvalue " + Number(result.min_eigenvalue);
+  if (options.verify) m += ", Kirchhoff residual " + Number(result.kirchhoff_residual);
   if (!result.supports.empty()) {
     m += "; " + std::to_string(result.supported_samples) + " of " +
          std::to_string(result.supports.size()) + " contact samples on the body carry " +

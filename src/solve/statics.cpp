@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -129,13 +130,10 @@ class ScaledStrandObjective final : public internal::Objective {
 // O(n). Only when the factorization fails is the mode along which to leave the unstable
 // equilibrium computed: by a dense eigensolver for small strands, by shifted inverse iteration
 // (a shift below lambda_min found by doubling, then the O(n) solve) for long ones.
-double MinEigen(ScaledStrandObjective& objective, const VecX& x, int inverse_iterations,
-                VecX* vector, int* hessian_evaluations) {
-  StrandHessian& hessian = objective.hessian_scratch();
-  objective.ScaledHessian(x, &hessian);
-  ++*hessian_evaluations;
-  const int n = objective.Dimension();
-  StrandHessianFactor& factor = objective.factor_scratch();
+// The same from the scaled Hessian itself (factor: scratch).
+double MinEigenOf(const StrandHessian& hessian, StrandHessianFactor& factor, int inverse_iterations,
+                  VecX* vector) {
+  const int n = 3 * hessian.NumSegments();
   VecX v = VecX::Ones(n) / std::sqrt(static_cast<double>(n)), w;
   if (factor.Factor(hessian, kStabilityTolerance)) {
     for (int k = 0; k < inverse_iterations; ++k) {
@@ -164,6 +162,14 @@ double MinEigen(ScaledStrandObjective& objective, const VecX& x, int inverse_ite
   if (vector) *vector = v;
   hessian.Multiply(v, &w);
   return v.dot(w);
+}
+
+double MinEigen(ScaledStrandObjective& objective, const VecX& x, int inverse_iterations,
+                VecX* vector, int* hessian_evaluations) {
+  StrandHessian& hessian = objective.hessian_scratch();
+  objective.ScaledHessian(x, &hessian);
+  ++*hessian_evaluations;
+  return MinEigenOf(hessian, objective.factor_scratch(), inverse_iterations, vector);
 }
 
 }  // namespace
@@ -220,6 +226,19 @@ double MinScaledHessianEigenvalue(const StrandModel& model, const VecX& curvatur
   const double lambda = MinEigen(objective, objective.ToScaled(curvatures), kReportedInverseIterations, &v, &hessians);
   if (direction) *direction = v.cwiseQuotient(objective.scale());
   return lambda;
+}
+
+double MinScaledHessianEigenvalue(const StrandModel& model, StrandHessian hessian) {
+  const int n = model.NumSegments();
+  assert(hessian.NumSegments() == n);
+  VecX inverse_scale(3 * n);
+  const Vec3 k = model.Stiffness();
+  for (int i = 0; i < n; ++i) {
+    inverse_scale.segment<3>(3 * i) = (model.segment_lengths[i] * k).cwiseSqrt().cwiseInverse();
+  }
+  hessian.Scale(inverse_scale);
+  StrandHessianFactor factor;
+  return MinEigenOf(hessian, factor, kReportedInverseIterations, nullptr);
 }
 
 StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options,
