@@ -446,11 +446,10 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
   result.rest_curvatures = InverseRestCurvatures(inverted, target);
   inverted.rest_curvatures = result.rest_curvatures;
   result.rest_energy = RestEnergy(model, result.rest_curvatures);
-  {
-    StrandModel plain = model;
-    plain.contact.support_offsets.clear();
-    result.rest_energy_unsupported = RestEnergy(model, InverseRestCurvatures(plain, target));
-  }
+  StrandModel plain = model;  // the model's own penalty forces only
+  plain.contact.support_offsets.clear();
+  plain.rest_curvatures = InverseRestCurvatures(plain, target);
+  result.rest_energy_unsupported = RestEnergy(model, plain.rest_curvatures);
 
   // The certificate: the Hessian at the target (independent of q0) factored from tip to root.
   StrandHessian hessian;
@@ -468,13 +467,17 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
   // with x_j smaller than the difference step), and its symmetrized form then has spurious
   // eigenvalues down to -50 where the energy curves up along every such direction (checked
   // along the directions on 1,000 groomed wavy masters; StrandHessian matched them).
-  result.min_eigenvalue = MinScaledHessianEigenvalue(inverted, hessian);
-  if (!(result.stable && result.min_eigenvalue > 0.0) && !result.support_offsets.empty()) {
-    StrandModel plain = model;
-    plain.contact.support_offsets.clear();
-    plain.rest_curvatures = InverseRestCurvatures(plain, target);
-    ComputeStrandHessian(plain, target, &hessian);
-    if (factor.Factor(hessian, 0.0) && MinScaledHessianEigenvalue(plain, hessian) > 0.0) {
+  // It is computed only for the rest shape kept: for a failed factorization it takes a dense
+  // eigensolver (~3 ms at 50 segments), which a fallback does not need.
+  double lambda = result.stable ? MinScaledHessianEigenvalue(inverted, hessian) : 0.0;
+  bool fell_back = false;
+  if (!(result.stable && lambda > 0.0) && !result.support_offsets.empty()) {
+    StrandHessian plain_hessian;
+    ComputeStrandHessian(plain, target, &plain_hessian);
+    double plain_lambda = 0.0;
+    if (factor.Factor(plain_hessian, 0.0) &&
+        (plain_lambda = MinScaledHessianEigenvalue(plain, plain_hessian)) > 0.0) {
+      fell_back = true;
       inverted = plain;
       result.rest_curvatures = plain.rest_curvatures;
       result.rest_energy = result.rest_energy_unsupported;
@@ -485,8 +488,12 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
       result.support_fallback = true;
       result.stable = true;
       result.failed_segment = -1;
-      result.min_eigenvalue = MinScaledHessianEigenvalue(inverted, hessian);
+      result.min_eigenvalue = plain_lambda;
     }
+  }
+  if (!fell_back) {
+    result.min_eigenvalue =
+        result.stable ? lambda : MinScaledHessianEigenvalue(inverted, std::move(hessian));
   }
   const double length = model.Length();
 
