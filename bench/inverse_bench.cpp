@@ -137,14 +137,20 @@ void FitCounters(benchmark::State& state, const std::vector<HelixFit>& fits) {
 
 void InverseCounters(benchmark::State& state, const std::vector<StrandModel>& models,
                      const std::vector<InverseResult>& results) {
-  int unstable = 0;
-  double worst = 0.0;
+  int unstable = 0, fallbacks = 0;
+  double worst = 0.0, worst_stable = 0.0;
   for (size_t i = 0; i < results.size(); ++i) {
     unstable += results[i].stable ? 0 : 1;
-    worst = std::max(worst, results[i].deviation / models[i].Length());
+    fallbacks += results[i].support_fallback ? 1 : 0;
+    const double d = results[i].deviation / models[i].Length();
+    worst = std::max(worst, d);
+    if (results[i].stable) worst_stable = std::max(worst_stable, d);
   }
   state.counters["unstable"] = unstable;
+  state.counters["support_fallbacks"] = fallbacks;
+  // All targets (an unstable one moves to the closest stable equilibrium), and the stable ones.
   state.counters["deviation_max_per_L"] = worst;
+  state.counters["deviation_stable_max_per_L"] = worst_stable;
 }
 
 // The fit alone: 10,000 polylines, 50 segments each, no root frames.
