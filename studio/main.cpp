@@ -663,7 +663,8 @@ void Panel(App* app) {
   }
   if (const auto hair = s.Hair()) {
     const SolveStats& st = hair->stats;
-    ImGui::Text("%s: %d of %d masters re-solved (%d kept)", st.what.c_str(), st.resolved,
+    // A file with operations solves a master once per step (groom, then each operation).
+    ImGui::Text("%s: %d master solves, %d masters (%d kept)", st.what.c_str(), st.resolved,
                 st.masters, st.reused);
     ImGui::Text("%ld iterations, %.0f ms (edit to screen %.0f ms)", st.iterations, st.seconds * 1e3,
                 app->last_latency * 1e3);
@@ -690,7 +691,13 @@ void Panel(App* app) {
     FieldCombo(app, "origin", "hair.origin", {"asian", "caucasian", "african"}, "caucasian");
     FieldCombo(app, "curl type", "hair.curl", {"straight", "wavy", "curly", "kinky"}, "wavy");
     ImGui::BeginDisabled(explicit_masters);
-    FieldSlider(app, "length (m)", "hair.length", 0.05f, 0.8f, 0.25f);
+    // One slider per region of a regional length (front / side / back): one number would
+    // replace them all.
+    for (const std::string& field : LengthFields(s.CurrentDocument().parameters)) {
+      const std::string label =
+          field == "hair.length" ? "length (m)" : "length, " + field.substr(12) + " (m)";
+      FieldSlider(app, label.c_str(), field, 0.05f, 0.8f, 0.25f);
+    }
     ImGui::EndDisabled();
     FieldInt(app, "hair seed", "hair.seed", 0, 100, 1);
   }
@@ -1073,7 +1080,7 @@ int RunScript(App* app, const std::string& script_path, const std::string& final
       if (const auto hair = app->session.Hair()) {
         const SolveStats& st = hair->stats;
         std::printf(
-            "bench: %s, %d masters re-solved, %d wisps regrown, solve %.3f s, wisps %.3f s, "
+            "bench: %s, %d master solves, %d wisps regrown, solve %.3f s, wisps %.3f s, "
             "worker %.3f s, upload %.3f s (%.1f MB), draw %.3f s, edit to screen %.3f s\n",
             st.what.c_str(), st.resolved, st.regrown, st.solve_seconds, st.wisp_seconds,
             solved - app->last_edit_time, uploaded - solved,
@@ -1115,7 +1122,7 @@ int RunScript(App* app, const std::string& script_path, const std::string& final
       if (const auto hair = app->session.Hair()) {
         const SolveStats& s = hair->stats;
         std::printf(
-            "wait: %s, %d masters re-solved (%d kept), %ld iterations, %d unconverged, "
+            "wait: %s, %d master solves (%d kept), %ld iterations, %d unconverged, "
             "%d unstable, max penetration %.3g mm, %.3f s; edit to screen %.3f s\n",
             s.what.c_str(), s.resolved, s.reused, s.iterations, s.unconverged, s.unstable,
             s.max_penetration * 1e3, s.seconds, app->last_latency);

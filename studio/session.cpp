@@ -267,6 +267,19 @@ bool Session::OpenDocument(const ojson& json, const std::string& base_directory,
   return true;
 }
 
+std::vector<std::string> LengthFields(const ojson& parameters) {
+  const auto hair = parameters.find("hair");
+  if (hair != parameters.end() && hair->is_object()) {
+    const auto length = hair->find("length");
+    if (length != hair->end() && length->is_object() && !length->empty()) {
+      std::vector<std::string> fields;
+      for (const auto& [region, value] : length->items()) fields.push_back("hair.length." + region);
+      return fields;
+    }
+  }
+  return {"hair.length"};
+}
+
 ojson Session::Parameter(const std::string& field) const {
   const ojson* node = &CurrentDocument().parameters;
   for (const std::string& key : SplitField(field)) {

@@ -34,7 +34,8 @@ namespace ringlet::studio {
 struct SolveStats {
   std::string what;            ///< "groom", "curl", "wet", ... (the last step of the edit)
   int masters = 0;             ///< masters in the hair
-  int resolved = 0;            ///< masters solved or re-solved by this edit
+  int resolved = 0;            ///< master solves made by this edit (a master solved by the
+                               ///< groom and again by an operation counts twice)
   int reused = 0;              ///< masters whose unchanged solution was kept (parameter edits)
   long iterations = 0;         ///< minimizer iterations of this edit
   int unconverged = 0;         ///< masters of the hair whose last solve did not converge
@@ -85,6 +86,11 @@ nlohmann::ordered_json DocumentToJson(const Document& document, const std::strin
 /// A JSON value typed by a user ("0.3", "true", "[0, 0, -1]", "\"wavy\"", or a bare word like
 /// wavy, taken as a string).
 nlohmann::ordered_json ParseValue(const std::string& text);
+
+/// The fields that set the hair's length, for the panel: "hair.length" when it is one number
+/// (or absent), else one field per region of a regional length ("hair.length.front", ...,
+/// docs/hairstyle-format.md), so that editing one region keeps the others.
+std::vector<std::string> LengthFields(const nlohmann::ordered_json& parameters);
 
 /// The editing session. All public functions are called from one (the UI) thread; the solve
 /// runs on an internal worker thread.

@@ -444,6 +444,30 @@ TEST_F(StudioSession, NewerEditCancelsStaleSolve) {
 // sample the masters (one line naming the field), applies operations, and the file it saves
 // in another directory (masters file path rewritten) gives the same hair through `ringlet
 // style`'s code path, bit for bit.
+// A regional length (front / side / back) gets one length field per region, and setting one
+// keeps the others (one "hair.length" slider showed 0.25 for such hairstyles and, moved, would
+// have replaced all three with one number).
+TEST(StudioLength, RegionalLengthsAreEditedOneByOne) {
+  ojson document = SmallDocument(12);
+  EXPECT_EQ(LengthFields(document), std::vector<std::string>{"hair.length"});
+  document["hair"].erase("length");
+  EXPECT_EQ(LengthFields(document), std::vector<std::string>{"hair.length"});
+  document["hair"]["length"] = {{"front", 0.12}, {"side", 0.25}, {"back", 0.3}};
+  EXPECT_EQ(LengthFields(document),
+            (std::vector<std::string>{"hair.length.front", "hair.length.side", "hair.length.back"}));
+
+  Session session;
+  std::string error;
+  ASSERT_TRUE(session.OpenDocument(document, RINGLET_EXAMPLES_DIR, "regional.json", &error))
+      << error;
+  session.Wait();
+  ASSERT_TRUE(session.SetParameter("hair.length.front", 0.15, &error)) << error;
+  session.Wait();
+  EXPECT_EQ(session.Parameter("hair.length"),
+            (ojson{{"front", 0.15}, {"side", 0.25}, {"back", 0.3}}));
+  EXPECT_EQ(LengthFields(session.CurrentDocument().parameters).size(), 3u);
+}
+
 TEST(StudioExplicitMasters, OpenStyleSaveRoundTrip) {
   std::string error;
   Hairstyle sampled;
