@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "ringlet/atomic_file.h"
+
 namespace ringlet {
 namespace {
 
@@ -152,6 +154,24 @@ TEST(BodyJson, MeshPathsAreRelativeToTheBaseDirectory) {
             "body.meshes[0].obj: " + dir.path() +
                 "/open.obj: box: edge (2, 4) belongs to 1 triangle (3, 4, 2): the mesh is not "
                 "closed, so its inside is undefined");
+}
+
+// A mesh file name with control characters and thousands of bytes (found by the body_json
+// fuzzer's long run: the name was quoted raw, newlines and all) is shown escaped and cut, on
+// one bounded line.
+TEST(BodyJson, OddMeshFileNamesStayOnOneBoundedLine) {
+  TempDirectory dir;
+  const std::string odd = "a\nb\tc\x01" + std::string(5000, 'x') + "\nend.obj";
+  const std::string error =
+      Error(json{{"meshes", json::array({json{{"obj", odd}}})}}, dir.path());
+  EXPECT_EQ(error.find_first_of("\n\r\t"), std::string::npos) << error;
+  EXPECT_LT(error.size(), 500u) << error;
+  EXPECT_NE(error.find("/a\\nb\\tc\\x01xxx"), std::string::npos) << error;
+  EXPECT_NE(error.find("...xxx"), std::string::npos) << error;
+  EXPECT_NE(error.find("x\\nend.obj: cannot open: "), std::string::npos) << error;
+  // Ordinary names are unchanged.
+  EXPECT_EQ(DisplayPath("/tmp/dir with spaces/b\u00e9b\u00e9.obj"), "/tmp/dir with spaces/b\u00e9b\u00e9.obj");
+  EXPECT_EQ(DisplayPath("tab\there\x7f"), "tab\\there\\x7f");
 }
 
 // Issue 16: tinyobjloader reads a bad coordinate as 0 and "8x" as 8; the lines are checked

@@ -72,4 +72,10 @@ bool ReadFile(const std::string& path, std::string* contents, std::string* error
 /// "64 MiB", "1 GiB", "1234 bytes": a byte count as the limits are documented.
 std::string FormatBytes(std::uint64_t bytes);
 
+/// A file name as shown in a one-line message: control characters (a newline inside a name read
+/// from a JSON string, say) escaped as \n, \r, \t or \xHH, and a name longer than 300 bytes cut
+/// in its middle ("..."), so that a message stays one bounded line whatever the name. Ordinary
+/// names are returned unchanged.
+std::string DisplayPath(const std::string& path);
+
 }  // namespace ringlet

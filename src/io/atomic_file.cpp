@@ -27,7 +27,7 @@ constexpr int kTemporaryNameAttempts = 100;
 std::string ErrnoText(int error_number) { return std::strerror(error_number); }
 
 bool Fail(std::string* error, const std::string& path, const std::string& what, int error_number) {
-  if (error) *error = path + ": " + what + ": " + ErrnoText(error_number);
+  if (error) *error = DisplayPath(path) + ": " + what + ": " + ErrnoText(error_number);
   return false;
 }
 
@@ -234,7 +234,7 @@ bool Commit(Staged* staged, bool overwrite, std::string* error) {
   };
   auto exists = [&]() {
     Discard(staged);
-    if (error) *error = staged->path + ": already exists";
+    if (error) *error = DisplayPath(staged->path) + ": already exists";
     return false;
   };
   if (overwrite) {
@@ -245,7 +245,7 @@ bool Commit(Staged* staged, bool overwrite, std::string* error) {
         const int swapped_back = ::renameat2(AT_FDCWD, temporary, AT_FDCWD, path, RENAME_EXCHANGE);
         if (swapped_back == 0) Discard(staged);  // the temporary name holds our file again
         if (error) {
-          *error = staged->path + ": exists and is " + FileKind(old.st_mode) +
+          *error = DisplayPath(staged->path) + ": exists and is " + FileKind(old.st_mode) +
                    "; only a regular file may be replaced";
         }
         return false;
@@ -327,16 +327,16 @@ bool CheckReplaceable(const std::string& path, bool overwrite, std::string* erro
   struct stat existing;
   if (::lstat(path.c_str(), &existing) == 0) {
     if (S_ISDIR(existing.st_mode)) {
-      if (error) *error = path + ": is a directory";
+      if (error) *error = DisplayPath(path) + ": is a directory";
       return false;
     }
     if (!overwrite) {
-      if (error) *error = path + ": already exists";
+      if (error) *error = DisplayPath(path) + ": already exists";
       return false;
     }
     if (!S_ISREG(existing.st_mode)) {
       if (error) {
-        *error = path + ": exists and is " + FileKind(existing.st_mode) +
+        *error = DisplayPath(path) + ": exists and is " + FileKind(existing.st_mode) +
                  "; only a regular file may be replaced";
       }
       return false;
@@ -439,6 +439,31 @@ bool WriteFilesAtomically(const std::string& directory,
   return true;
 }
 
+std::string DisplayPath(const std::string& path) {
+  constexpr size_t kMaxShown = 300, kHead = 100;
+  std::string out;
+  for (const char c : path) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u != 0x7f) {
+      out += c;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else {
+      static const char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[u >> 4];
+      out += kHex[u & 15];
+    }
+  }
+  if (out.size() <= kMaxShown) return out;
+  // Escapes and UTF-8 may be cut in the middle; the "..." marks the cut either way.
+  return out.substr(0, kHead) + "..." + out.substr(out.size() - (kMaxShown - kHead - 3));
+}
+
 std::string FormatBytes(std::uint64_t bytes) {
   constexpr std::uint64_t kMiB = std::uint64_t{1} << 20, kGiB = std::uint64_t{1} << 30;
   if (bytes >= kGiB && bytes % kGiB == 0) return std::to_string(bytes / kGiB) + " GiB";
@@ -461,7 +486,7 @@ bool ReadFile(const std::string& path, std::string* contents, std::string* error
   if (!S_ISREG(info.st_mode)) {
     ::close(fd);
     if (error) {
-      *error = path + ": is " + FileKind(info.st_mode) + ", not a regular file (inputs must be " +
+      *error = DisplayPath(path) + ": is " + FileKind(info.st_mode) + ", not a regular file (inputs must be " +
                "regular files)";
     }
     return false;
@@ -469,7 +494,7 @@ bool ReadFile(const std::string& path, std::string* contents, std::string* error
   const auto too_large = [&](const std::string& size) {
     ::close(fd);
     if (error) {
-      *error = path + ": is " + size + ", more than the limit of " + FormatBytes(max_bytes) +
+      *error = DisplayPath(path) + ": is " + size + ", more than the limit of " + FormatBytes(max_bytes) +
                " for this kind of file";
     }
     return false;

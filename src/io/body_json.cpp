@@ -213,7 +213,7 @@ bool LoadBody(const std::string& path, Body* body, std::string* error) {
   std::string why;
   const std::string directory = std::filesystem::path(path).parent_path().string();
   if (!ParseBodyText(text, directory, body, &why)) {
-    if (error) *error = path + ": " + why;
+    if (error) *error = DisplayPath(path) + ": " + why;
     return false;
   }
   return true;

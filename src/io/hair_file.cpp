@@ -201,7 +201,7 @@ bool WriteHairFile(const std::string& path, const HairCurves& curves,
                    const HairFileOptions& options, bool overwrite, std::string* error) {
   std::string bytes;
   std::string why;
-  if (!EncodeHairFile(curves, options, &bytes, &why)) return Fail(error, path + ": " + why);
+  if (!EncodeHairFile(curves, options, &bytes, &why)) return Fail(error, DisplayPath(path) + ": " + why);
   return WriteFileAtomically(path, bytes, overwrite, error);
 }
 
@@ -346,7 +346,7 @@ bool ReadHairFile(const std::string& path, HairCurves* curves, std::string* erro
   if (!ReadFile(path, &bytes, error, kMaxHairFileBytes)) return false;
   std::string why;
   if (!DecodeHairFile(bytes, curves, &why, units_per_metre)) {
-    return Fail(error, path + ": " + why);
+    return Fail(error, DisplayPath(path) + ": " + why);
   }
   return true;
 }

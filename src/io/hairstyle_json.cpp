@@ -719,7 +719,7 @@ bool LoadHairstyle(const std::string& path, Hairstyle* style,
   if (!ReadFile(path, &text, error)) return false;
   const std::string base = std::filesystem::path(path).parent_path().string();
   if (!ParseHairstyleText(text, base.empty() ? "." : base, style, operations, &why)) {
-    if (error) *error = path + ": " + why;
+    if (error) *error = DisplayPath(path) + ": " + why;
     return false;
   }
   return true;

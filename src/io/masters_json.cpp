@@ -284,7 +284,7 @@ bool LoadMastersFile(const std::string& path, std::vector<ExplicitMaster>* maste
   std::string text, why;
   if (!ReadFile(path, &text, error)) return false;
   if (!ParseMastersText(text, masters, &why)) {
-    if (error) *error = path + ": " + why;
+    if (error) *error = DisplayPath(path) + ": " + why;
     return false;
   }
   return true;

@@ -95,7 +95,7 @@ bool WriteObj(const std::string& path, const HairCurves& curves, bool overwrite,
               std::string* error) {
   std::string text, why;
   if (!EncodeObj(curves, &text, &why)) {
-    if (error) *error = path + ": " + why;
+    if (error) *error = DisplayPath(path) + ": " + why;
     return false;
   }
   return WriteFileAtomically(path, text, overwrite, error);

@@ -189,7 +189,7 @@ bool LoadObjMeshes(const std::string& path, std::vector<TriangleMesh>* meshes, s
   if (!ReadFile(path, &text, error, kMaxObjFileBytes)) return false;
   std::string why;
   if (!ParseObjMeshes(text, meshes, &why)) {
-    if (error) *error = path + ": " + why;
+    if (error) *error = DisplayPath(path) + ": " + why;
     return false;
   }
   return true;

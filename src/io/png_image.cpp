@@ -128,7 +128,7 @@ bool WritePng(const std::string& path, const Image& image, double exposure, bool
               std::string* error) {
   std::string bytes, why;
   if (!EncodePng(image, exposure, &bytes, &why)) {
-    if (error) *error = path + ": " + why;
+    if (error) *error = DisplayPath(path) + ": " + why;
     return false;
   }
   return WriteFileAtomically(path, bytes, overwrite, error);
@@ -168,7 +168,7 @@ bool EncodePng(const Image& image, double exposure, std::string* png, std::strin
 
 bool ReadPng(const std::string& path, Image* image, std::string* error) {
   const auto fail = [&](const std::string& why) {
-    if (error) *error = path + ": " + why;
+    if (error) *error = DisplayPath(path) + ": " + why;
     return false;
   };
   std::string bytes;

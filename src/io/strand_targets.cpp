@@ -51,7 +51,7 @@ bool ReadText(const std::string& path, bool usda, const StrandTargetOptions& opt
   io_internal::TextStrands strands;
   const bool parsed = usda ? io_internal::ParseUsdaCurves(text, &strands, &error)
                            : io_internal::ParseObjPolylines(text, &strands, &error);
-  if (!parsed) return Fail(why, path + ": " + error);
+  if (!parsed) return Fail(why, DisplayPath(path) + ": " + error);
   text = std::string();  // the text is no longer needed: free it before converting
 
   double units_per_metre = options.units_per_metre;
@@ -72,7 +72,7 @@ bool ReadText(const std::string& path, bool usda, const StrandTargetOptions& opt
     return "strand " + std::to_string(k) + " (" + strands.label_prefixes[label.prefix] +
            std::to_string(label.number) + ")";
   };
-  if (!io_internal::CheckStrands(out, name, &error)) return Fail(why, path + ": " + error);
+  if (!io_internal::CheckStrands(out, name, &error)) return Fail(why, DisplayPath(path) + ": " + error);
   if (summary) {
     StrandTargetSummary info;
     info.file_strand_index.resize(out.point_counts.size());
@@ -196,7 +196,7 @@ bool ReadStrandTargets(const std::string& path, const StrandTargetOptions& optio
     std::string bytes;
     if (!ReadFile(path, &bytes, why, kMaxStrandTargetFileBytes)) return false;
     if (!DecodeUscData(bytes, options, curves, summary, &error)) {
-      return Fail(why, path + ": " + error);
+      return Fail(why, DisplayPath(path) + ": " + error);
     }
     return true;
   }
@@ -206,7 +206,7 @@ bool ReadStrandTargets(const std::string& path, const StrandTargetOptions& optio
     if (!ReadHairFile(path, &out, why, options.units_per_metre)) return false;
     io_internal::ConvertToMetresZUp(1.0, options.up_axis, &out);
     const auto name = [](size_t k) { return "strand " + std::to_string(k); };
-    if (!io_internal::CheckStrands(out, name, &error)) return Fail(why, path + ": " + error);
+    if (!io_internal::CheckStrands(out, name, &error)) return Fail(why, DisplayPath(path) + ": " + error);
     if (summary) {
       StrandTargetSummary info;
       info.file_strand_index.resize(out.point_counts.size());
