@@ -162,6 +162,7 @@ TEST(HairstyleJson, WavyExampleOnTheHeadMesh) {
   ASSERT_TRUE(std::holds_alternative<MeshScalp>(s.scalp));
   EXPECT_GT(std::get<MeshScalp>(s.scalp).triangles.size(), 1000u);
   EXPECT_EQ(s.comb.face_sweep, 1.5);
+  EXPECT_TRUE(s.comb.curl_inward);
   EXPECT_EQ(s.comb.direction, Vec3(0, -1, -0.3));
   EXPECT_TRUE(s.comb.parting);
   EXPECT_TRUE(s.regional_length);
@@ -526,6 +527,8 @@ std::vector<BadCase> BadCases() {
        "masters.seed",
        {"got 9007199254740993"}},
       {"hair_seed_beyond_2p53", With(R"("hair": {"seed": 9007199254740993})"), "hair.seed", {}},
+      {"curl_inward_not_bool", With(R"("comb": {"curl_inward": 1})"), "comb.curl_inward",
+       {"true or false"}},
       // Grading: "auto" or a ratio >= 1.
       {"grading_below_one", With(R"("masters": {"grading": 0.5})"), "masters.grading", {"auto"}},
       {"grading_zero", With(R"("masters": {"grading": 0})"), "masters.grading", {}},

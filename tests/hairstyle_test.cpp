@@ -499,6 +499,54 @@ TEST(GroomHairstyle, LayersGiveVolume) {
   EXPECT_GT(b.outer, a.outer);
 }
 
+// comb.curl_inward: short wavy masters (13 cm: light, their weight cannot pull the wave down)
+// keep their curl's sense at the root. Started away from the head (the default) the curl lifts
+// them off the crown; started into it, it presses them onto the head. Measured: how far each
+// master rises above its root, and the distance of its points from the head's surface.
+TEST(GroomHairstyle, CurlInwardLaysShortWavyHairOnTheHead) {
+  Hairstyle away = SmallStyle(60);
+  away.length = 0.13;
+  away.comb.tilt = 1.5;  // combed back, nearly along the scalp, as examples/hairstyles/wavy.json
+  away.comb.direction = Vec3(0.0, -1.0, -0.3);
+  away.comb.face_sweep = 1.5;
+  Hairstyle inward = away;
+  inward.comb.curl_inward = true;
+  const HairstyleMasters built = MustBuild(inward);
+  for (const StrandModel& m : built.models) ASSERT_GT(m.natural_curvature.x(), 0.0);
+  for (const StrandModel& m : MustBuild(away).models) ASSERT_LT(m.natural_curvature.x(), 0.0);
+  struct Shape {
+    double rise = 0.0, height = 0.0;  // mean over masters: max z - root z; mean |p| - 0.1 (m)
+    int rising = 0;                   // masters rising more than 2 cm above their root
+  };
+  auto measure = [](const Groom& g) {
+    Shape s;
+    int points = 0;
+    for (size_t i = 0; i < g.solutions.size(); ++i) {
+      const std::vector<Vec3> p = SampleCentreline(g.masters.models[i], g.solutions[i].curvatures, 4);
+      double top = p[0].z();
+      for (const Vec3& x : p) {
+        top = std::max(top, x.z());
+        s.height += x.norm() - 0.1;
+        ++points;
+      }
+      s.rise += (top - p[0].z()) / static_cast<double>(g.solutions.size());
+      if (top - p[0].z() > 0.02) ++s.rising;
+    }
+    s.height /= points;
+    return s;
+  };
+  const Groom g_away = MustGroom(away), g_inward = MustGroom(inward);
+  EXPECT_EQ(g_away.summary.unconverged + g_inward.summary.unconverged, 0);
+  const Shape a = measure(g_away), b = measure(g_inward);
+  std::printf("curl away: mean rise %.1f mm, %d of 60 masters rise > 2 cm, mean height above "
+              "the head %.1f mm; curl inward: %.1f mm, %d, %.1f mm\n",
+              a.rise * 1e3, a.rising, a.height * 1e3, b.rise * 1e3, b.rising, b.height * 1e3);
+  ASSERT_GT(a.rising, 5);  // anti-vacuity: the default does lift short wavy hair
+  EXPECT_LT(b.rise, 0.5 * a.rise);
+  EXPECT_LT(b.rising, a.rising / 2);
+  EXPECT_LT(b.height, a.height);
+}
+
 TEST(GroomHairstyle, RejectsInvalidInputWithoutTouchingTheResult) {
   Hairstyle style = SmallStyle(10);
   style.wisps.strands_per_wisp = 0;

@@ -145,7 +145,17 @@ struct CombOptions {
   /// beside the face), backward above the ears, nothing at the nape (docs/hairstyle-format.md).
   /// It must exceed 1 to beat `direction` where the two are opposed. 0 = off, >= 0.
   double face_sweep = 0.0;
+  /// The sense of each strand's natural curl at its root: false (the default) starts it away
+  /// from the head; true starts it into the head, as combing lays hair down: the curl then
+  /// presses the strand onto the scalp instead of lifting it (short, light strands, whose
+  /// weight cannot pull their curl down, otherwise stand up from the crown). BuildMasters and
+  /// the curl operation apply it through CurlStartSign (below).
+  bool curl_inward = false;
 };
+
+/// The sign of kappa1^0 at the root in the comb frame (n2 away from the scalp, dt/ds =
+/// kappa1 n1 x t = -kappa1 n2): -1 starts the curl away from the head, +1 into it.
+inline double CurlStartSign(const CombOptions& comb) { return comb.curl_inward ? 1.0 : -1.0; }
 
 /// Checks finite fields, tilt in [0, pi/2], non-zero directions, parting_strength >= 0,
 /// face_sweep >= 0.

@@ -200,7 +200,7 @@ bool BuildExplicitMasters(const Hairstyle& style, HairstyleMasters* out, std::st
       m.natural_curvature = *e.natural_curvature;
     } else {
       m.natural_curvature = p.natural_curvature;
-      m.natural_curvature.x() = -std::abs(m.natural_curvature.x());
+      m.natural_curvature.x() = CurlStartSign(style.comb) * std::abs(m.natural_curvature.x());
     }
     m.root_position = e.root_position;
     m.root_frame = e.root_frame;
@@ -288,9 +288,10 @@ bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string
     m.section = p.section;
     m.material = p.material;
     // The comb frame has n2 pointing away from the scalp and dt/ds = kappa1 n1 x t = -kappa1 n2
-    // (scalp.h): a negative kappa1^0 starts the curl away from the head instead of into it.
+    // (scalp.h): a negative kappa1^0 starts the curl away from the head, a positive one into it
+    // (comb.curl_inward).
     m.natural_curvature = p.natural_curvature;
-    m.natural_curvature.x() = -std::abs(m.natural_curvature.x());
+    m.natural_curvature.x() = CurlStartSign(style.comb) * std::abs(m.natural_curvature.x());
     m.root_position = root.position;
     m.root_frame = root.frame;
     m.gravity = style.gravity;

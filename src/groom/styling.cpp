@@ -261,8 +261,9 @@ bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection&
   if (!selection.IsValid(n, why)) return false;
 
   const HelixCurvature helix = CurvatureFromHelix(radius, pitch);
-  // BuildMasters' convention: kappa1^0 <= 0 starts the curl away from the head.
-  const Vec3 natural(-helix.curvature, 0.0, helix.torsion);
+  // BuildMasters' convention: the hairstyle's comb says whether the curl starts away from the
+  // head (kappa1^0 <= 0, the default) or into it.
+  const Vec3 natural(CurlStartSign(state->style.comb) * helix.curvature, 0.0, helix.torsion);
 
   OperationReport r;
   r.name = "curl";

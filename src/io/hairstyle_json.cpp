@@ -227,8 +227,10 @@ bool ParseComb(Reader& reader, const json& document, Hairstyle* style) {
   const std::string path = "comb";
   CombOptions& c = style->comb;
   if (!reader.CheckFields(*comb, path,
-                          {"tilt", "direction", "fallback_direction", "parting", "face_sweep"}) ||
+                          {"tilt", "direction", "fallback_direction", "parting", "face_sweep",
+                           "curl_inward"}) ||
       !reader.ReadNumber(*comb, path, "tilt", kTiltRule, false, &c.tilt) ||
+      !reader.ReadBool(*comb, path, "curl_inward", &c.curl_inward) ||
       !reader.ReadNumber(*comb, path, "face_sweep", kNonNegative, false, &c.face_sweep) ||
       !reader.ReadVector<3>(*comb, path, "direction", "a direction", false, &c.direction) ||
       !reader.ReadVector<3>(*comb, path, "fallback_direction", "a direction", false,
