@@ -317,6 +317,22 @@ TEST(StylingTest, CurlRoundTripsRadiusAndPitch) {
               measured.pitch);
 }
 
+// With comb.curl_inward the curl operation starts its curl into the head, as the groom does:
+// the same helix (radius and pitch) with kappa1^0 > 0, the mirror of the default's.
+TEST(StylingTest, CurlFollowsTheCombsCurlSense) {
+  StyledHair state = SingleStrand(Vec3::Zero(), 0.1, 10, Vec3::Zero());
+  state.style.comb.curl_inward = true;
+  std::string error;
+  OperationReport report;
+  const double radius = 0.012, pitch = 0.03;
+  ASSERT_TRUE(Curl(&state, radius, pitch, {}, {}, &report, &error)) << error;
+  const double c = pitch / (2.0 * std::numbers::pi);
+  EXPECT_NEAR(state.masters.models[0].natural_curvature.x(), radius / (radius * radius + c * c),
+              1e-9);
+  EXPECT_NEAR(state.masters.models[0].natural_curvature.z(), c / (radius * radius + c * c), 1e-9);
+  ASSERT_TRUE(state.solutions[0].summary.Converged());
+}
+
 TEST(StylingTest, CurlActsOnTheSelectionOnly) {
   StyledHair state = Groomed(SmallStyle("caucasian", "wavy", 20, 0.2));
   const StyledHair before = state;
