@@ -592,6 +592,12 @@ void FieldInt(App* app, const char* label, const std::string& field, int min, in
   if (ImGui::IsItemDeactivatedAfterEdit()) SetField(app, field, value);
 }
 
+void FieldCheckbox(App* app, const char* label, const std::string& field, bool fallback) {
+  const nlohmann::ordered_json v = app->session.Parameter(field);
+  bool value = v.is_boolean() ? v.get<bool>() : fallback;
+  if (ImGui::Checkbox(label, &value)) SetField(app, field, value);
+}
+
 void FieldCombo(App* app, const char* label, const std::string& field,
                 const std::vector<const char*>& items, const char* fallback) {
   const nlohmann::ordered_json v = app->session.Parameter(field);
@@ -717,6 +723,7 @@ void Panel(App* app) {
     ImGui::BeginDisabled(explicit_masters);
     FieldSlider(app, "tilt (rad)", "comb.tilt", 0.0f, 1.5707f, 1.2f);
     FieldSlider(app, "parting offset", "comb.parting.offset", -0.08f, 0.08f, 0.0f);
+    FieldCheckbox(app, "waves laid into the head", "comb.curl_inward", false);
     ImGui::EndDisabled();
   }
 

@@ -468,6 +468,26 @@ TEST(StudioLength, RegionalLengthsAreEditedOneByOne) {
   EXPECT_EQ(LengthFields(session.CurrentDocument().parameters).size(), 3u);
 }
 
+// The comb panel's "waves laid into the head" box sets comb.curl_inward: the re-solved masters
+// start their curl into the head (kappa1^0 > 0); a non-boolean is refused with the CLI's message.
+TEST(StudioComb, CurlInwardIsAField) {
+  Session session;
+  std::string error;
+  ASSERT_TRUE(session.OpenDocument(SmallDocument(12), RINGLET_EXAMPLES_DIR, "small.json", &error))
+      << error;
+  session.Wait();
+  ASSERT_TRUE(session.Hair());
+  EXPECT_LT(session.Hair()->styled.masters.models[0].natural_curvature.x(), 0.0);
+  ASSERT_TRUE(session.SetParameter("comb.curl_inward", true, &error)) << error;
+  session.Wait();
+  ASSERT_TRUE(session.Hair());
+  for (const StrandModel& m : session.Hair()->styled.masters.models) {
+    EXPECT_GT(m.natural_curvature.x(), 0.0);
+  }
+  EXPECT_FALSE(session.SetParameter("comb.curl_inward", 1, &error));
+  EXPECT_NE(error.find("comb.curl_inward: expected true or false"), std::string::npos) << error;
+}
+
 TEST(StudioExplicitMasters, OpenStyleSaveRoundTrip) {
   std::string error;
   Hairstyle sampled;
