@@ -229,8 +229,10 @@ TEST(PointForceGradient, MatchesFiniteDifferencesOfTheWork) {
   }
 }
 
-// The batched columns equal the single ones bit for bit (the same operations in the same order),
-// with several forces per segment, forces in the first and the last segment, and none in some.
+// Each batched column equals the column of its force alone, bit for bit (sharing the segments'
+// closed forms changes no operation), with several forces per segment, forces in the first and
+// the last segment, and none in some. (PointForceGradient is one force's batch; its values are
+// checked against differences of the work above.)
 TEST(PointForceGradients, EqualTheSingleColumnsBitForBit) {
   const int n = 9;
   StrandModel m = MakeStrand(0.3, n, 0.3, Vec3(25.0, -10.0, 8.0), RandomRotation(5));

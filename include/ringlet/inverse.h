@@ -39,10 +39,11 @@ struct PointForce {
   Vec3 force = Vec3::Zero();   ///< F (N, world)
 };
 
-/// The columns PointForceGradient(model, curvatures, f.segment, f.u, f.force) of every force,
-/// bit for bit, as a 3n x p matrix, in one forward and one reverse sweep: each segment's closed
-/// forms are evaluated once and shared by every force downstream of it (O(n + p n) instead of
-/// the p separate sweeps' O(p n) helix evaluations). Forces must be sorted by segment.
+/// The columns PointForceGradient(model, curvatures, f.segment, f.u, f.force) of every force as
+/// a 3n x p matrix, in one forward and one reverse sweep: each segment's closed forms are
+/// evaluated once and shared by every force downstream of it (O(n + p n) operations instead of
+/// the p separate sweeps' O(p n) helix evaluations); each column is bit for bit the one of that
+/// force alone. Forces must be sorted by segment.
 MatX PointForceGradients(const StrandModel& model, const VecX& curvatures,
                          const std::vector<PointForce>& forces);
 

@@ -72,30 +72,9 @@ VecX InverseRestCurvatures(const StrandModel& model, const VecX& target) {
 
 VecX PointForceGradient(const StrandModel& model, const VecX& curvatures, int segment, double u,
                         const Vec3& force) {
-  const int n = model.NumSegments();
-  assert(curvatures.size() == 3 * n && segment >= 0 && segment < n);
-  const StrandGeometry g = ComputeGeometry(model, curvatures);
-  VecX gradient = VecX::Zero(3 * n);
-  // x = r_i + Q_i h(u): dE/dx = -F. The sample's own segment through its partial chord, then
-  // the reverse sweep of energy.cpp with r_bar = dE/dr_(k+1), q_bar = dE/dQ_(k+1).
-  const Vec3 de_dx = -force;
-  const Vec3 omega = curvatures.segment<3>(3 * segment);
-  const HelixFunctions functions = EvaluateHelixFunctions(omega.norm() * u);
-  const Vec3 h = HelixChordFromFunctions(omega, u, functions);
-  const Mat3& q_i = g.frames[static_cast<size_t>(segment)];
-  gradient.segment<3>(3 * segment) = HelixChordVjp(omega, u, functions, q_i.transpose() * de_dx);
-  const Vec3 r_bar = de_dx;  // a force adds to the adjoint of every upstream start point
-  Mat3 q_bar = de_dx * h.transpose();
-  for (int k = segment - 1; k >= 0; --k) {
-    const Vec3 omega_k = curvatures.segment<3>(3 * k);
-    const double l = model.segment_lengths[static_cast<size_t>(k)];
-    const HelixSegment s = EvaluateHelixSegment(omega_k, l);
-    const Mat3& q_k = g.frames[static_cast<size_t>(k)];
-    gradient.segment<3>(3 * k) = HelixSegmentVjp(omega_k, l, s.functions, q_k.transpose() * q_bar,
-                                                 q_k.transpose() * r_bar, Vec3::Zero());
-    q_bar = q_bar * s.rotation.transpose() + r_bar * s.chord.transpose();
-  }
-  return gradient;
+  assert(curvatures.size() == 3 * model.NumSegments() && segment >= 0 &&
+         segment < model.NumSegments());
+  return PointForceGradients(model, curvatures, {PointForce{segment, u, force}}).col(0);
 }
 
 MatX PointForceGradients(const StrandModel& model, const VecX& curvatures,
@@ -106,8 +85,9 @@ MatX PointForceGradients(const StrandModel& model, const VecX& curvatures,
   MatX gradient = MatX::Zero(3 * n, p);
   if (p == 0) return gradient;
   const StrandGeometry g = ComputeGeometry(model, curvatures);
-  // The same operations as PointForceGradient, column by column, in the same order: forces
-  // [begin, p) lie past segment k and carry q_bar = dE/dQ_(k+1) (r_bar = -F is constant).
+  // x = r_i + Q_i h(u): dE/dx = -F. Each force's own segment through its partial chord, then
+  // the reverse sweep of energy.cpp with r_bar = dE/dr_(k+1) = -F and q_bar = dE/dQ_(k+1):
+  // forces [begin, p) lie past segment k (the segment's closed forms are shared by all).
   std::vector<Mat3> q_bar(static_cast<size_t>(p));
   Eigen::Index begin = p;
   for (int k = n - 1; k >= 0; --k) {
