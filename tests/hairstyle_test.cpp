@@ -522,7 +522,8 @@ TEST(GroomHairstyle, CurlInwardLaysShortWavyHairOnTheHead) {
     Shape s;
     int points = 0;
     for (size_t i = 0; i < g.solutions.size(); ++i) {
-      const std::vector<Vec3> p = SampleCentreline(g.masters.models[i], g.solutions[i].curvatures, 4);
+      const std::vector<Vec3> p =
+          SampleCentreline(g.masters.models[i], g.solutions[i].curvatures, 4);
       double top = p[0].z();
       for (const Vec3& x : p) {
         top = std::max(top, x.z());

@@ -223,7 +223,9 @@ int NonNegativeLeastSquares(const MatX& a, const VecX& b, VecX* x) {
       [&](const VecX& v) -> VecX { return as.transpose() * (b - as * v); },
       [&](const std::vector<Eigen::Index>& set) -> VecX {
         MatX ap(rows, static_cast<Eigen::Index>(set.size()));
-        for (size_t k = 0; k < set.size(); ++k) ap.col(static_cast<Eigen::Index>(k)) = as.col(set[k]);
+        for (size_t k = 0; k < set.size(); ++k) {
+          ap.col(static_cast<Eigen::Index>(k)) = as.col(set[k]);
+        }
         return ap.colPivHouseholderQr().solve(b);
       },
       &y);

@@ -486,7 +486,8 @@ bool ReadFile(const std::string& path, std::string* contents, std::string* error
   if (!S_ISREG(info.st_mode)) {
     ::close(fd);
     if (error) {
-      *error = DisplayPath(path) + ": is " + FileKind(info.st_mode) + ", not a regular file (inputs must be " +
+      *error = DisplayPath(path) + ": is " + FileKind(info.st_mode) +
+               ", not a regular file (inputs must be " +
                "regular files)";
     }
     return false;
@@ -494,7 +495,8 @@ bool ReadFile(const std::string& path, std::string* contents, std::string* error
   const auto too_large = [&](const std::string& size) {
     ::close(fd);
     if (error) {
-      *error = DisplayPath(path) + ": is " + size + ", more than the limit of " + FormatBytes(max_bytes) +
+      *error = DisplayPath(path) + ": is " + size + ", more than the limit of " +
+               FormatBytes(max_bytes) +
                " for this kind of file";
     }
     return false;

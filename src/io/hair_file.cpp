@@ -201,7 +201,9 @@ bool WriteHairFile(const std::string& path, const HairCurves& curves,
                    const HairFileOptions& options, bool overwrite, std::string* error) {
   std::string bytes;
   std::string why;
-  if (!EncodeHairFile(curves, options, &bytes, &why)) return Fail(error, DisplayPath(path) + ": " + why);
+  if (!EncodeHairFile(curves, options, &bytes, &why)) {
+    return Fail(error, DisplayPath(path) + ": " + why);
+  }
   return WriteFileAtomically(path, bytes, overwrite, error);
 }
 

@@ -72,7 +72,9 @@ bool ReadText(const std::string& path, bool usda, const StrandTargetOptions& opt
     return "strand " + std::to_string(k) + " (" + strands.label_prefixes[label.prefix] +
            std::to_string(label.number) + ")";
   };
-  if (!io_internal::CheckStrands(out, name, &error)) return Fail(why, DisplayPath(path) + ": " + error);
+  if (!io_internal::CheckStrands(out, name, &error)) {
+    return Fail(why, DisplayPath(path) + ": " + error);
+  }
   if (summary) {
     StrandTargetSummary info;
     info.file_strand_index.resize(out.point_counts.size());
@@ -206,7 +208,9 @@ bool ReadStrandTargets(const std::string& path, const StrandTargetOptions& optio
     if (!ReadHairFile(path, &out, why, options.units_per_metre)) return false;
     io_internal::ConvertToMetresZUp(1.0, options.up_axis, &out);
     const auto name = [](size_t k) { return "strand " + std::to_string(k); };
-    if (!io_internal::CheckStrands(out, name, &error)) return Fail(why, DisplayPath(path) + ": " + error);
+    if (!io_internal::CheckStrands(out, name, &error)) {
+    return Fail(why, DisplayPath(path) + ": " + error);
+  }
     if (summary) {
       StrandTargetSummary info;
       info.file_strand_index.resize(out.point_counts.size());
