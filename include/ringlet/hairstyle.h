@@ -144,8 +144,8 @@ struct Hairstyle {
   /// solved as a Kirchhoff rod (its own root on the scalp, the master's root frame, section,
   /// material, natural curl and segment count; length the master's times the child's length
   /// fraction, WispLengthFractions; body contact with the clearance of one fibre plus its hull
-  /// layer's offset), warm-started from its master's equilibrium and certified like the masters
-  /// (SolveChildren). File key:
+  /// layer's offset), warm-started from the nearest solved strand of its wisp and certified like
+  /// the masters (SolveChildren). File key:
   /// "wisps": {"children": "solved"} (default "procedural").
   bool solve_children = false;
   /// Centreline samples per master segment handed to the wisp generator (>= 1).
@@ -238,7 +238,7 @@ bool GroomHairstyle(const Hairstyle& style, const BatchOptions& batch, Groom* gr
                     std::string* why);
 
 /// With the solver's method "auto", a solved child (Hairstyle::solve_children) whose load
-/// w L^3 / (E I1) is at least this is solved by Newton from its master's equilibrium, a lighter
+/// w L^3 / (E I1) is at least this is solved by Newton from a neighbour's equilibrium, a lighter
 /// one by L-BFGS: the crossover measured on the example heads (docs/benchmarks.md, "Every strand
 /// a solved rod"). Masters keep kAutoNewtonLoad (statics.h): they start from the natural shape.
 inline constexpr double kChildNewtonLoad = 30.0;
@@ -248,10 +248,13 @@ inline constexpr double kChildNewtonLoad = 30.0;
 /// child's first point, the master's root frame, section, material and natural curvature, the
 /// master's length times the child's length fraction (WispLengthFractions; not the drawn
 /// polyline, which winds around curly masters) divided into the master's segment count (graded
-/// as the master), body contact with clearance = fibre radius + the master's hull-layer offset, warm-started from
-/// the master's curvatures, solved with style.solver in parallel (the certificate included) and
-/// sampled exactly at the child's point count, equally spaced in arc length (major axes from its
-/// own material frame). Counts go to summary's children_* fields. Deterministic on any thread
+/// as the master), body contact with clearance = fibre radius + the master's hull-layer offset,
+/// solved with style.solver (the certificate included) and sampled exactly at the child's point
+/// count, equally spaced in arc length (major axes from its own material frame). Warm starts:
+/// within a wisp, children are solved in order of their root's distance to the master's root,
+/// each from the equilibrium of the nearest strand of the wisp solved before it (the master
+/// included; nearness |root - root'|^2 + (L - L')^2); wisps are solved in parallel, each as one
+/// sequential chain. Counts go to summary's children_* fields. Deterministic on any thread
 /// count. Returns false for inconsistent input, or with why = "cancelled" (batch.cancel). The
 /// method per child: kChildNewtonLoad.
 bool SolveChildren(const Hairstyle& style, const HairstyleMasters& masters,

@@ -34,6 +34,31 @@ std::string NumberText(double x) {
 
 namespace {
 
+// The nearest sphere surface: the index of the sphere with the smallest |x - c| - r below *best
+// (which it then holds), or -1. The same answer, bit for bit, as taking the square root of every
+// sphere: a sphere is skipped without its root only when |x - c|^2 exceeds (best + r + margin)^2,
+// margin = 1e-12 (|best| + r) (far above the rounding of best + r and of the square), so that its
+// rounded distance could not have been below best either; an empty bound (below 0) skips too, as
+// |x - c| >= 0. Most spheres of a body are far from most samples: ~1 root per query, not 9.
+inline int NearestSphere(const std::vector<Eigen::Vector4d>& spheres, const Vec3& x,
+                         double* best) {
+  int nearest = -1;
+  const int count = static_cast<int>(spheres.size());
+  for (int i = 0; i < count; ++i) {
+    const Eigen::Vector4d& s = spheres[static_cast<size_t>(i)];
+    const double dx = x.x() - s(0), dy = x.y() - s(1), dz = x.z() - s(2);
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    const double bound = *best + s(3) + 1e-12 * (std::abs(*best) + s(3));
+    if (bound < 0.0 || d2 > bound * bound) continue;  // false for best = inf and for NaN
+    const double d = std::sqrt(d2) - s(3);
+    if (d < *best) {
+      *best = d;
+      nearest = i;
+    }
+  }
+  return nearest;
+}
+
 // Folds a component's signed distance d (gradient g) into the running smooth minimum (best,
 // best_gradient) with the quadratic smooth minimum of width k (Body::Create).
 inline void SmoothFold(double d, const Vec3& g, double k, double* best, Vec3* best_gradient) {
@@ -195,19 +220,9 @@ double Body::SignedDistance(const Vec3& x, Vec3* gradient) const {
     if (gradient) *gradient = best_gradient;
     return best;
   }
-  // Spheres: |x - c| - r each, one square root, no allocation, no virtual call.
+  // Spheres: min |x - c| - r, no allocation, no virtual call.
   double best = std::numeric_limits<double>::infinity();
-  int best_sphere = -1;
-  const int sphere_count = static_cast<int>(packed_spheres_.size());
-  for (int i = 0; i < sphere_count; ++i) {
-    const Eigen::Vector4d& s = packed_spheres_[static_cast<size_t>(i)];
-    const double dx = x.x() - s(0), dy = x.y() - s(1), dz = x.z() - s(2);
-    const double d = std::sqrt(dx * dx + dy * dy + dz * dz) - s(3);
-    if (d < best) {
-      best = d;
-      best_sphere = i;
-    }
-  }
+  const int best_sphere = NearestSphere(packed_spheres_, x, &best);
   // Meshes: skipped when x is outside the mesh's box by more than the best distance (the
   // distance to the box is then a lower bound of the mesh's signed distance).
   int best_mesh = -1;
@@ -308,15 +323,7 @@ double Body::SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian)
     }
   } else {
     // The exact minimum: the Hessian of the minimizing component (ties as in SignedDistance).
-    int best_sphere = -1;
-    for (size_t i = 0; i < packed_spheres_.size(); ++i) {
-      const Eigen::Vector4d& s = packed_spheres_[i];
-      const double d = (x - s.head<3>()).norm() - s(3);
-      if (d < best) {
-        best = d;
-        best_sphere = static_cast<int>(i);
-      }
-    }
+    const int best_sphere = NearestSphere(packed_spheres_, x, &best);
     if (best_sphere >= 0) {
       const Vec3 r = x - packed_spheres_[static_cast<size_t>(best_sphere)].head<3>();
       const double norm = r.norm();

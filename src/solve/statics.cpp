@@ -64,9 +64,23 @@ class ScaledStrandObjective final : public internal::Objective {
 
   double Evaluate(const VecX& x, VecX* gradient) override {
     q_ = natural_ + x.cwiseQuotient(scale_);
-    const double e = energy_.Evaluate(q_, gradient ? &gq_ : nullptr);
-    if (gradient) *gradient = gq_.cwiseQuotient(scale_);  // dE/dx = dE/dq / scale
+    const double e = energy_.Evaluate(q_, gradient ? &gq_ : nullptr, &last_terms_);
+    if (gradient) {
+      *gradient = gq_.cwiseQuotient(scale_);  // dE/dx = dE/dq / scale
+      last_q_ = q_;
+      last_gq_ = gq_;
+    }
     return e;
+  }
+
+  // The energy terms and curvature gradient of the last evaluation with a gradient, if it was
+  // at exactly these curvatures (the minimizer's last accepted point usually is): the same
+  // numbers a new evaluation would give, without its cost.
+  bool LastEvaluation(const VecX& q, VecX* gradient, EnergyTerms* terms) const {
+    if (last_q_.size() != q.size() || last_q_ != q) return false;
+    *gradient = last_gq_;
+    *terms = last_terms_;
+    return true;
   }
 
   double Residual(const VecX& x, const VecX& gradient) const override {
@@ -119,6 +133,8 @@ class ScaledStrandObjective final : public internal::Objective {
   VecX natural_;
   VecX scale_;
   VecX q_, gq_;
+  VecX last_q_, last_gq_;
+  EnergyTerms last_terms_;
   StrandHessian hessian_;
   StrandHessianFactor factor_;
 };
@@ -291,9 +307,11 @@ StrandSolution SolveStrand(const StrandModel& model, const SolveOptions& options
 
   StrandSolution solution;
   solution.curvatures = objective.ToCurvatures(x);
-  StrandEnergy energy(model);
   VecX gradient;
-  energy.Evaluate(solution.curvatures, &gradient, &summary.energy);
+  if (!objective.LastEvaluation(solution.curvatures, &gradient, &summary.energy)) {
+    StrandEnergy energy(model);
+    energy.Evaluate(solution.curvatures, &gradient, &summary.energy);
+  }
   summary.gradient_norm = gradient.norm();
   summary.residual = EquilibriumResidual(model, solution.curvatures, gradient);
   summary.contact = MeasureContact(model, solution.curvatures);
