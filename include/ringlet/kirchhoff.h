@@ -23,8 +23,9 @@ double EquilibriumResidual(const StrandModel& model, const VecX& curvatures,
 /// hanging below r(u) (internal force n(u) = (L - u) f balances the weight, n' + f = 0, and the
 /// free tip carries no force or moment, M(L) = 0). The integral uses 6-point Gauss-Legendre
 /// quadrature on sub-intervals turning at most 1 rad (relative error about 7.7e-13 at most,
-/// kirchhoff.cpp); positions and T(u) come from the closed-form helix (HelixSegment with
-/// l -> u). With a contact model, the penalty forces (ComputeContactForces) are point loads at their samples and add their moments
+/// kirchhoff.cpp); positions and T(u) come from the closed-form helix (the chord and first
+/// moment of helix.h at length u, in the segment's start frame). With a contact model, the penalty
+/// forces (ComputeContactForces) are point loads at their samples and add their moments
 /// sum (x_k - r(u)) x F_k about r(u) to M(u); the quadrature then breaks at the samples. At an
 /// exact equilibrium of the discrete energy b equals the energy gradient, which is zero. Size 3n.
 VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures);

@@ -99,28 +99,53 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
   const int m = model.contact.samples_per_segment;
 
   VecX imbalance(3 * n);
+  const Vec3 e3(0.0, 0.0, 1.0);
+  std::vector<Vec3> local_force, local_torque;  // the contacts of segment i, in its start frame
   for (int i = 0; i < n; ++i) {
     const Vec3 omega = curvatures.segment<3>(3 * i);
     const double l = model.segment_lengths[i];
-    const HelixSegment whole = EvaluateHelixSegment(omega, l);
-    // int_u^l r(v) dv = (l - u) r_i + Q_i (c(l) - c(u)), c(u) the first moment of length u.
+    const double remaining = length - s_start[i];  // L - s_i: the strand from here to the tip
+    // Everything in segment i's start material frame F_i (rotations keep cross products):
+    // r(u) = r_i + F_i c(u), int_u^l r(v) dv = (l - u) r_i + F_i (C(l) - C(u)), with the chord
+    // c(u) = u e3 + u^2 G2 a1 + u^3 G3 a2 and its first moment C(u) = u^2/2 e3 + u^3 G3 a1 +
+    // u^4 G4 a2 (helix.h, a1 = Omega x e3, a2 = Omega x a1, G_m = G_m(u |Omega|)).
+    const Mat3 to_local = g.frames[i].transpose();
+    const Vec3 root = to_local * g.points[i];
+    const Vec3 beyond = to_local * t_end[i];
+    const Vec3 weight = to_local * f;
+    const Vec3 force_beyond = to_local * force_after[i + 1];
+    const Vec3 torque_beyond = to_local * torque_after[i + 1];
+    const int c_begin = first_contact[i], c_end = first_contact[i + 1];
+    local_force.clear();
+    local_torque.clear();
+    for (int c = c_begin; c < c_end; ++c) {
+      local_force.push_back(to_local * contacts[c].force);
+      local_torque.push_back(to_local * contacts[c].position.cross(contacts[c].force));
+    }
+    const Vec3 a1 = omega.cross(e3), a2 = omega.cross(a1);
+    const double omega_norm = omega.norm();
+    const Vec3 whole_moment = EvaluateHelixSegment(omega, l).moment;  // C(l)
+    // The material components of the moment of the load beyond r(u) about r(u):
+    // R(u)^T F_i^T M(u), R(u)^T v = v - u G1 Omega x v + u^2 G2 Omega x (Omega x v).
     auto moment_below = [&](double u) {
-      const HelixSegment part = EvaluateHelixSegment(omega, u);
-      const Vec3 r = g.points[i] + g.frames[i] * part.chord;
-      const Vec3 t = t_end[i] + (l - u) * g.points[i] + g.frames[i] * (whole.moment - part.moment);
-      Vec3 moment = (t - (length - s_start[i] - u) * r).cross(f);
-      Vec3 force = force_after[i + 1], torque = torque_after[i + 1];
-      for (int c = first_contact[i]; c < first_contact[i + 1]; ++c) {
+      const HelixFunctions h = EvaluateHelixFunctions(u * omega_norm);
+      const double u2 = u * u, u3 = u2 * u;
+      const Vec3 chord = u * e3 + (u2 * h.g[2]) * a1 + (u3 * h.g[3]) * a2;
+      const Vec3 first_moment = (0.5 * u2) * e3 + (u3 * h.g[3]) * a1 + (u3 * u * h.g[4]) * a2;
+      const Vec3 r = root + chord;
+      const Vec3 t = beyond + (l - u) * root + (whole_moment - first_moment);
+      Vec3 force = force_beyond, torque = torque_beyond;
+      for (int c = c_begin; c < c_end; ++c) {
         if (contacts[c].u > u) {
-          force += contacts[c].force;
-          torque += contacts[c].position.cross(contacts[c].force);
+          force += local_force[static_cast<size_t>(c - c_begin)];
+          torque += local_torque[static_cast<size_t>(c - c_begin)];
         }
       }
-      moment += torque - r.cross(force);
-      // Material coordinates: (F_i R(u))^T M = R(u)^T (F_i^T M), two matrix-vector products.
-      return Vec3(part.rotation.transpose() * (g.frames[i].transpose() * moment));
+      const Vec3 moment = (t - (remaining - u) * r).cross(weight) + torque - r.cross(force);
+      const Vec3 w_moment = omega.cross(moment);
+      return Vec3(moment - (u * h.g[1]) * w_moment + (u2 * h.g[2]) * omega.cross(w_moment));
     };
-    const double turn_pieces = std::ceil(omega.norm() * l / kMaxTurnPerInterval);
+    const double turn_pieces = std::ceil(omega_norm * l / kMaxTurnPerInterval);
     int pieces = turn_pieces >= 1.0 ? static_cast<int>(std::min(turn_pieces, kMaxPiecesPerSegment))
                                     : 1;  // NaN and 0 also give one piece
     // With contact, the moment jumps at the samples (j + 1) l / m: make them piece boundaries.
