@@ -14,6 +14,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "io/json_reader.h"
@@ -432,6 +433,33 @@ TEST(ResultWriter, LayoutKeepsNumberArraysOnOneLine) {
   EXPECT_EQ(all[4 + n + 4 + n].rfind("      \"segment_lengths\": [", 0), 0u);
   EXPECT_EQ(all[4 + n + 4 + n].back(), ',');
   EXPECT_EQ(all.back(), "}");
+}
+
+// The streaming form (ringlet solve's file) hands out exactly ResultToString's bytes, in pieces
+// of about 1 MiB: 400 copies of the curly strand make ~1.3 MB, so at least two pieces. A sink
+// that fails stops the formatting after its first piece.
+TEST(ResultWriter, StreamedTextIsTheSameBytesInPieces) {
+  const std::vector<StrandResult> one = SolveExample("vertical_curly.json", true, 1);
+  ASSERT_EQ(one.size(), 1u);
+  const std::vector<StrandResult> results(400, one[0]);
+  const std::string expected = ResultToString(results, 0.75);
+  ASSERT_GT(expected.size(), size_t{1} << 20);
+  std::string streamed;
+  int pieces = 0;
+  WriteResultText(results, 0.75, [&](std::string_view piece) {
+    streamed.append(piece);
+    ++pieces;
+    EXPECT_LE(piece.size(), (size_t{1} << 20) + 65536);
+    return true;
+  });
+  EXPECT_EQ(streamed, expected);
+  EXPECT_GE(pieces, 2);
+  int calls = 0;
+  WriteResultText(results, 0.75, [&](std::string_view) {
+    ++calls;
+    return false;
+  });
+  EXPECT_EQ(calls, 1);
 }
 
 }  // namespace

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -31,6 +33,17 @@ inline constexpr std::uint64_t kMaxHairFileBytes = std::uint64_t{1} << 30;
 /// is removed, *error receives one line starting with the path and the function returns false.
 /// Never throws.
 bool WriteFileAtomically(const std::string& path, const std::string& contents, bool overwrite,
+                         std::string* error);
+
+/// Where a producer writes a file's contents, piece by piece, in order. Returns false once a
+/// write has failed (the producer may stop; the error is reported by the call that wrote).
+using FileSink = std::function<bool(std::string_view)>;
+
+/// WriteFileAtomically with contents produced in pieces: produce(sink) hands every piece to
+/// sink, which appends it to the temporary file; the same checks, flush, rename, clean-up and
+/// messages, without holding the whole contents in memory (ringlet solve's result text).
+bool WriteFileAtomically(const std::string& path,
+                         const std::function<void(const FileSink&)>& produce, bool overwrite,
                          std::string* error);
 
 /// Writes several files into directory as one output (a groom's strands.hair, strands.usda,

@@ -46,7 +46,7 @@ std::string BaseNameOf(const std::string& path) {
 }
 
 // Writes all of data to fd, retrying on short writes and EINTR.
-bool WriteAll(int fd, const std::string& data, int* error_number) {
+bool WriteAll(int fd, std::string_view data, int* error_number) {
   const char* p = data.data();
   size_t left = data.size();
   while (left > 0) {
@@ -185,10 +185,10 @@ std::string FileKind(mode_t mode) {
   return "a special file";
 }
 
-// Writes contents to a new temporary next to path, flushed and closed. On failure nothing is
-// left and *error names path.
-bool Stage(const std::string& path, const std::string& contents, Staged* staged,
-           std::string* error) {
+// Writes what produce hands its sink to a new temporary next to path, flushed and closed. On
+// failure nothing is left and *error names path.
+bool Stage(const std::string& path, const std::function<void(const FileSink&)>& produce,
+           Staged* staged, std::string* error) {
   staged->path = path;
   int error_number = 0;
   const int fd = CreateTemporary(path, staged, &error_number);
@@ -200,7 +200,12 @@ bool Stage(const std::string& path, const std::string& contents, Staged* staged,
     Discard(staged);
     return Fail(error, path, what, number);
   };
-  if (!WriteAll(fd, contents, &error_number)) {
+  bool written = true;
+  produce([&](std::string_view piece) {
+    written = written && WriteAll(fd, piece, &error_number);
+    return written;
+  });
+  if (!written) {
     ::close(fd);
     return abandon("cannot write", error_number);
   }
@@ -347,6 +352,13 @@ bool CheckReplaceable(const std::string& path, bool overwrite, std::string* erro
 
 bool WriteFileAtomically(const std::string& path, const std::string& contents, bool overwrite,
                          std::string* error) {
+  return WriteFileAtomically(
+      path, [&contents](const FileSink& sink) { sink(contents); }, overwrite, error);
+}
+
+bool WriteFileAtomically(const std::string& path,
+                         const std::function<void(const FileSink&)>& produce, bool overwrite,
+                         std::string* error) {
   if (path.empty()) {
     if (error) *error = "(empty path): cannot write a file without a name";
     return false;
@@ -354,7 +366,7 @@ bool WriteFileAtomically(const std::string& path, const std::string& contents, b
   // Refuse early what the final step would refuse, with a clearer message.
   if (!CheckReplaceable(path, overwrite, error)) return false;
   Staged staged;
-  if (!Stage(path, contents, &staged, error) || !Commit(&staged, overwrite, error)) return false;
+  if (!Stage(path, produce, &staged, error) || !Commit(&staged, overwrite, error)) return false;
   SyncDirectory(path);
   return true;
 }
@@ -407,7 +419,8 @@ bool WriteFilesAtomically(const std::string& directory,
       return false;
     }
     staged.emplace_back();
-    if (!Stage(path, contents, &staged.back(), error)) {
+    if (!Stage(path, [&contents = contents](const FileSink& sink) { sink(contents); },
+               &staged.back(), error)) {
       staged.pop_back();
       roll_back();
       if (error) *error += " (nothing was written)";

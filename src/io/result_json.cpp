@@ -66,9 +66,13 @@ double MaxPenetration(const std::vector<StrandResult>& strands) {
 // ResultToString's text, written member by member in the layout of docs/scene-format.md:
 // indented by two spaces, arrays of numbers (a point, a curvature triple, the segment lengths)
 // on one line. Keys are literals; numbers and strings go through io/json_writer.h.
+// With a sink, the text is handed to it in pieces of about kPieceBytes (then *out is a buffer
+// that never grows much beyond that); without one, all of it stays in *out.
 class ResultWriter {
  public:
-  explicit ResultWriter(std::string* out) : out_(out) {}
+  static constexpr size_t kPieceBytes = size_t{1} << 20;
+  explicit ResultWriter(std::string* out, const FileSink* sink = nullptr)
+      : out_(out), sink_(sink) {}
 
   void Document(const std::vector<StrandResult>& strands, double seconds) {
     Raw("{\n  \"strands\": [");
@@ -76,6 +80,8 @@ class ResultWriter {
       Raw(i == 0 ? "\n    {\n" : ",\n    {\n");
       Strand(strands[i]);
       Raw("\n    }");
+      if (sink_ && out_->size() >= kPieceBytes) Flush();
+      if (!ok_) return;  // a write failed: WriteFileAtomically reports it
     }
     Raw(strands.empty() ? "]" : "\n  ]");
 
@@ -100,6 +106,7 @@ class ResultWriter {
       String(unit.text);
     }
     Raw("\n  }\n}\n");
+    if (sink_) Flush();
   }
 
  private:
@@ -199,7 +206,15 @@ class ResultWriter {
   void Integer(long long x) { internal::AppendJsonInteger(x, out_); }
   void String(std::string_view text) { internal::AppendJsonString(text, out_); }
 
+  // Hands the buffer to the sink; after a failed write the rest is not formatted in vain.
+  void Flush() {
+    if (ok_) ok_ = (*sink_)(*out_);
+    out_->clear();
+  }
+
   std::string* out_;
+  const FileSink* sink_;
+  bool ok_ = true;
 };
 
 }  // namespace
@@ -339,6 +354,13 @@ std::string ResultToString(const std::vector<StrandResult>& strands, double seco
   text.reserve(estimate);
   ResultWriter(&text).Document(strands, seconds);
   return text;
+}
+
+void WriteResultText(const std::vector<StrandResult>& strands, double seconds,
+                     const FileSink& sink) {
+  std::string buffer;
+  buffer.reserve(ResultWriter::kPieceBytes + 65536);
+  ResultWriter(&buffer, &sink).Document(strands, seconds);
 }
 
 }  // namespace ringlet
