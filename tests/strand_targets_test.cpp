@@ -565,14 +565,19 @@ TEST(StrandTargets, FileAndOptionErrors) {
 // Found by the fuzzer (tests/fuzz/fuzz_usda_targets.cpp): a prim name holding newlines made the
 // message span several lines. Every message is one line of bounded length.
 TEST(StrandTargets, UsdaMessageIsOneBoundedLineWhateverTheNames) {
-  // A prim name with newlines (parse stage) and an interpolation token with one (the check of
-  // the parsed prims).
-  for (const char* name : {"usda_prim_name_newline.usda", "usda_interpolation_newline.usda"}) {
+  // A prim name with newlines (parse stage), an interpolation token with one (the check of
+  // the parsed prims), and a prim name with carriage returns and NULs quoted by a check after
+  // the reader (a repeated point; found by the hour-long fuzz run of usda_targets).
+  for (const char* name : {"usda_prim_name_newline.usda", "usda_interpolation_newline.usda",
+                           "usda_prim_name_control_later_check.usda"}) {
     const std::string path = std::string(RINGLET_TEST_DATA_DIR) + "/robustness/" + name;
     HairCurves curves;
     std::string why;
     ASSERT_FALSE(ReadStrandTargets(path, StrandTargetOptions{}, &curves, &why)) << name;
-    EXPECT_EQ(why.find_first_of("\n\r"), std::string::npos) << why;
+    for (const char c : why) {
+      const unsigned char u = static_cast<unsigned char>(c);
+      EXPECT_TRUE(u >= 0x20 && u != 0x7f) << "control character " << int{u} << " in: " << why;
+    }
     EXPECT_LT(why.size(), path.size() + 500) << why;
     EXPECT_EQ(curves.NumStrands(), 0);
   }

@@ -33,15 +33,22 @@ struct Token {
   uint64_t line = 0;
 };
 
-// A token shown in a message: printable ASCII only, cut to a few characters.
+// Text from the file as a message shows it: control characters (and DEL) as '?', cut to at most
+// max characters followed by "...", so that a message stays one bounded line.
+std::string Printable(std::string_view text, size_t max) {
+  std::string shown;
+  for (const char c : text.substr(0, max)) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    shown += u < 0x20 || u == 0x7f ? '?' : c;
+  }
+  if (text.size() > max) shown += "...";
+  return shown;
+}
+
+// A token shown in a message: printable characters only, cut to a few characters.
 std::string Show(const Token& t) {
   if (t.kind == Kind::kEnd) return "the end of the file";
-  std::string shown;
-  for (char c : t.text.substr(0, 24)) {
-    const unsigned char u = static_cast<unsigned char>(c);
-    shown += u >= 0x20 && u < 0x7f ? c : '?';
-  }
-  return "\"" + shown + (t.text.size() > 24 ? "...\"" : "\"");
+  return "\"" + Printable(t.text, 24) + "\"";
 }
 
 bool IsIdentStart(char c) {
@@ -737,7 +744,9 @@ class Parser {
         out.point_counts.push_back(static_cast<uint32_t>(counts->numbers[j]));
         out_->labels.push_back({static_cast<uint32_t>(out_->label_prefixes.size()), j});
       }
-      out_->label_prefixes.push_back("<" + prim.path + "> curve ");
+      // The prim's path names its strands in later messages (ReadStrandTargets' checks), which
+      // the sanitizing above does not reach: shown the same way here (found by the fuzzer).
+      out_->label_prefixes.push_back("<" + Printable(prim.path, 200) + "> curve ");
       const size_t n_curves = counts->numbers.size();
       // Widths: primvars:widths wins over widths (UsdGeomPrimvar); interpolation constant,
       // uniform (per curve), vertex or varying (per point, the same for linear curves).
@@ -845,13 +854,7 @@ bool ParseUsdaCurves(std::string_view text, TextStrands* out, std::string* error
     // from the file; found by the fuzzer, tests/fuzz/fuzz_usda_targets.cpp): control characters
     // become '?' and the message is cut at 400 characters.
     constexpr size_t kMaxMessage = 400;
-    std::string line;
-    for (const char c : error->substr(0, kMaxMessage)) {
-      const unsigned char u = static_cast<unsigned char>(c);
-      line += u < 0x20 || u == 0x7f ? '?' : c;
-    }
-    if (error->size() > kMaxMessage) line += "...";
-    *error = std::move(line);
+    *error = Printable(*error, kMaxMessage);
     return false;
   }
   *out = std::move(result);
