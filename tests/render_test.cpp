@@ -5,10 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -991,6 +994,90 @@ TEST(RenderTest, RejectsBadInput) {
 
 // FrameCamera: the box's bounding sphere fits the frame (its angular radius is below the
 // narrower half field of view), looking along the given direction.
+// A body mesh's shading normal (SurfaceHit::shading_normal): on a coarse sphere (an octahedron
+// subdivided twice, 128 faces, vertices on the unit sphere) the interpolated corner normals are
+// much closer to the exact sphere normal than the flat faces' normals; on a cube (90-degree
+// creases, beyond the 60-degree smoothing angle) the shading normal is the face normal exactly.
+std::shared_ptr<const Body> MeshBody(std::vector<Vec3> vertices,
+                                     std::vector<TriangleMesh::Triangle> triangles) {
+  TriangleMesh mesh;
+  std::string error;
+  EXPECT_TRUE(TriangleMesh::Create(std::move(vertices), std::move(triangles), "mesh", &mesh,
+                                   &error))
+      << error;
+  auto body = std::make_shared<Body>();
+  EXPECT_TRUE(Body::Create({}, {mesh}, body.get(), &error)) << error;
+  return body;
+}
+
+TEST(RenderTest, MeshShadingNormalsAreSmoothButKeepCreases) {
+  // Octahedron, each face split in 4 twice, vertices pushed onto the unit sphere.
+  std::vector<Vec3> v = {Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitY(),
+                         -Vec3::UnitY(), Vec3::UnitZ(), -Vec3::UnitZ()};
+  std::vector<TriangleMesh::Triangle> t = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                           {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  for (int level = 0; level < 2; ++level) {
+    std::map<std::pair<int, int>, int> middle;
+    auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = middle.find(key);
+      if (it != middle.end()) return it->second;
+      v.push_back((v[a] + v[b]).normalized());
+      return middle[key] = static_cast<int>(v.size()) - 1;
+    };
+    std::vector<TriangleMesh::Triangle> finer;
+    for (const auto& f : t) {
+      const int ab = mid(f[0], f[1]), bc = mid(f[1], f[2]), ca = mid(f[2], f[0]);
+      finer.push_back({f[0], ab, ca});
+      finer.push_back({ab, f[1], bc});
+      finer.push_back({ca, bc, f[2]});
+      finer.push_back({ab, bc, ca});
+    }
+    t = std::move(finer);
+  }
+  ASSERT_EQ(t.size(), 128u);
+  const auto sphere = MeshBody(v, t);
+  HairCurves no_hair;
+  std::string error;
+  auto scene = render::EmbreeScene::Create(&no_hair, sphere.get(), &error);
+  ASSERT_NE(scene, nullptr) << error;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  double flat_error = 0.0, smooth_error = 0.0;
+  const int rays = 400;
+  for (int k = 0; k < rays; ++k) {
+    const Vec3 towards = render::UniformSphere(uniform(rng), uniform(rng));
+    const render::SurfaceHit hit =
+        scene->Intersect(3.0 * towards, -towards, 0.0, 10.0, render::RayIgnore{});
+    ASSERT_EQ(hit.kind, render::HitKind::kBody);
+    const Vec3 exact = hit.p.normalized();
+    flat_error += std::acos(std::clamp(hit.normal.dot(exact), -1.0, 1.0));
+    smooth_error += std::acos(std::clamp(hit.shading_normal.dot(exact), -1.0, 1.0));
+    EXPECT_NEAR(hit.shading_normal.norm(), 1.0, 1e-12);
+    EXPECT_GT(hit.shading_normal.dot(hit.normal), 0.8);
+  }
+  // Faces of this mesh span ~20 degrees: flat normals are off by ~7 degrees on average.
+  EXPECT_GT(flat_error / rays, 0.08);
+  EXPECT_LT(smooth_error, 0.35 * flat_error);
+
+  // A unit cube of 12 triangles: every hit shades with its face's own normal.
+  const std::vector<Vec3> c = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0),
+                               Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1)};
+  const std::vector<TriangleMesh::Triangle> ct = {
+      {0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+      {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  const auto cube = MeshBody(c, ct);
+  auto cube_scene = render::EmbreeScene::Create(&no_hair, cube.get(), &error);
+  ASSERT_NE(cube_scene, nullptr) << error;
+  for (int k = 0; k < rays; ++k) {
+    const Vec3 towards = render::UniformSphere(uniform(rng), uniform(rng));
+    const render::SurfaceHit hit = cube_scene->Intersect(Vec3(0.5, 0.5, 0.5) + 3.0 * towards,
+                                                         -towards, 0.0, 10.0, render::RayIgnore{});
+    ASSERT_EQ(hit.kind, render::HitKind::kBody);
+    EXPECT_LT((hit.shading_normal - hit.normal).norm(), 1e-12);
+  }
+}
+
 TEST(RenderTest, FrameCameraFitsTheBox) {
   const Eigen::AlignedBox3d box(Vec3(-0.1, 0.2, 0.0), Vec3(0.3, 0.4, 0.5));
   for (double aspect : {0.5, 1.0, 2.0}) {

@@ -13,6 +13,49 @@
 namespace ringlet::render {
 namespace {
 
+// The shading normal of each triangle corner (3 per triangle, unit): the area-weighted mean of
+// the normals of the faces around the corner's vertex that turn by at most kSmoothAngle from
+// the triangle's own, so that a tessellated smooth surface shades smoothly while a crease
+// sharper than that (a box's edge) stays sharp. A degenerate triangle's corners get zero (the
+// hit then shades with its geometric normal).
+constexpr double kSmoothAngle = 60.0 * std::numbers::pi / 180.0;
+
+std::vector<Vec3> CornerNormals(const TriangleMesh& mesh) {
+  const auto& v = mesh.vertices();
+  const auto& triangles = mesh.triangles();
+  const size_t count = triangles.size();
+  std::vector<Vec3> area(count), unit(count);  // cross products (2 x area) and unit normals
+  std::vector<std::uint32_t> start(v.size() + 1, 0), faces(3 * count);
+  for (size_t t = 0; t < count; ++t) {
+    const Vec3& a = v[triangles[t][0]];
+    area[t] = (v[triangles[t][1]] - a).cross(v[triangles[t][2]] - a);
+    const double norm = area[t].norm();
+    unit[t] = norm > 0.0 ? Vec3(area[t] / norm) : Vec3::Zero();
+    for (int c = 0; c < 3; ++c) ++start[static_cast<size_t>(triangles[t][c]) + 1];
+  }
+  for (size_t i = 0; i < v.size(); ++i) start[i + 1] += start[i];
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (size_t t = 0; t < count; ++t) {
+    for (int c = 0; c < 3; ++c) {
+      faces[fill[static_cast<size_t>(triangles[t][c])]++] = static_cast<std::uint32_t>(t);
+    }
+  }
+  const double min_cos = std::cos(kSmoothAngle);
+  std::vector<Vec3> corners(3 * count, Vec3::Zero());
+  for (size_t t = 0; t < count; ++t) {
+    if (unit[t].isZero()) continue;
+    for (int c = 0; c < 3; ++c) {
+      const size_t vertex = static_cast<size_t>(triangles[t][c]);
+      Vec3 sum = Vec3::Zero();
+      for (std::uint32_t k = start[vertex]; k < start[vertex + 1]; ++k) {
+        if (unit[faces[k]].dot(unit[t]) >= min_cos) sum += area[faces[k]];
+      }
+      corners[3 * t + static_cast<size_t>(c)] = sum.normalized();
+    }
+  }
+  return corners;
+}
+
 // The first error Embree reports on a device (its error callback may run on any thread during
 // a build; the first message is kept).
 struct ErrorSink {
@@ -186,6 +229,8 @@ std::unique_ptr<EmbreeScene> EmbreeScene::Create(const HairCurves* hair, const B
       rtcReleaseGeometry(geometry);
       if (out->mesh_of_geometry_.size() <= id) out->mesh_of_geometry_.resize(id + 1, -1);
       out->mesh_of_geometry_[id] = static_cast<int>(m);
+      out->corner_normals_.resize(body->meshes().size());
+      out->corner_normals_[m] = CornerNormals(mesh);
       out->body_primitives_ += static_cast<int>(mesh.triangles().size());
     }
   }
@@ -273,13 +318,21 @@ SurfaceHit EmbreeScene::Intersect(const Vec3& org, const Vec3& dir, double tnear
   if (geometry == sphere_geometry_) {
     const Sphere& sphere = body_->spheres()[prim];
     hit.normal = (hit.p - sphere.center).normalized();
+    hit.shading_normal = hit.normal;
   } else {
-    const TriangleMesh& mesh = body_->meshes()[mesh_of_geometry_[geometry]];
+    const int m = mesh_of_geometry_[geometry];
+    const TriangleMesh& mesh = body_->meshes()[static_cast<size_t>(m)];
     const auto& triangle = mesh.triangles()[prim];
     const Vec3& a = mesh.vertices()[triangle[0]];
     const Vec3& b = mesh.vertices()[triangle[1]];
     const Vec3& c = mesh.vertices()[triangle[2]];
     hit.normal = (b - a).cross(c - a).normalized();  // outward (TriangleMesh's orientation)
+    // Phong normal: Embree's barycentrics (u, v) weight corners 1 and 2.
+    const Vec3* n = &corner_normals_[static_cast<size_t>(m)][3 * static_cast<size_t>(prim)];
+    const double u = rayhit.hit.u, w = rayhit.hit.v;
+    const Vec3 shading = (1.0 - u - w) * n[0] + u * n[1] + w * n[2];
+    const double norm = shading.norm();
+    hit.shading_normal = norm > 0.0 && std::isfinite(norm) ? Vec3(shading / norm) : hit.normal;
   }
   return hit;
 }

@@ -52,6 +52,12 @@ struct SurfaceHit {
   double wetness = 0.0;  ///< HairCurves::wetness of the strand (0 when the curves carry none)
   // Body hits.
   Vec3 normal = Vec3::UnitZ();  ///< outward unit geometric normal
+  /// Outward unit normal for shading: a sphere's exact normal; on a mesh, the corner normals
+  /// (area-weighted means of the faces around each vertex within 60 degrees of the hit face)
+  /// interpolated with the hit's barycentric coordinates (Phong shading), so that a tessellated
+  /// smooth surface does not show its facets and a sharp crease stays sharp. Rays still leave
+  /// from the geometric surface (normal).
+  Vec3 shading_normal = Vec3::UnitZ();
 };
 
 /// The local frame of a fibre hit (fibre_scattering.h): x tangent, z the part of wo normal to
@@ -109,6 +115,7 @@ class EmbreeScene {
   unsigned hair_geometry_ = ~0u;
   unsigned sphere_geometry_ = ~0u;
   std::vector<int> mesh_of_geometry_;  // geometry ID -> mesh index, or -1
+  std::vector<std::vector<Vec3>> corner_normals_;  // per body mesh, 3 per triangle (unit)
   std::vector<std::uint32_t> strand_first_segment_;  // per strand, + one past the end
   int hair_segments_ = 0;
   int body_primitives_ = 0;

@@ -140,10 +140,14 @@ Vertex MakeVertex(const Context& c, const SurfaceHit& hit, const Vec3& wo) {
     v.origin = hit.p;
     v.ignore = c.scene->IgnoreFor(hit);
   } else {
-    // The body is closed and seen from outside; flip anyway if a ray arrives from inside.
-    v.normal = hit.normal.dot(wo) >= 0.0 ? hit.normal : Vec3(-hit.normal);
+    // The body is closed and seen from outside; flip anyway if a ray arrives from inside. Shading
+    // uses the smooth normal (SurfaceHit::shading_normal) on the side of the geometric one that
+    // faces wo; rays leave from the geometric surface.
+    const bool front = hit.normal.dot(wo) >= 0.0;
+    const Vec3 geometric = front ? hit.normal : Vec3(-hit.normal);
+    v.normal = front ? hit.shading_normal : Vec3(-hit.shading_normal);
     v.body_frame = Frame(v.normal);
-    v.origin = hit.p + c.scene->body_offset() * v.normal;
+    v.origin = hit.p + c.scene->body_offset() * geometric;
   }
   return v;
 }
