@@ -54,14 +54,30 @@ render() {  # render OUTPUT.png INPUT ARGS...
     --width "$size" --height "$size" --spp "$spp"
 }
 
-# 2. Dry vs wet: the wet hair's shape (ringlet style --wet), same optics, same camera.
-"$ringlet" style examples/hairstyles/wavy_mannequin.json --wet -o "$out/wavy_wet" --force \
-  | tee "$out/wavy_wet.log"
-e_caucasian=0.705  # sqrt(1 - 1/1.41^2): caucasian ellipticity 1.41 (docs/hair-types.md)
-render "$out/dry.png" "$out/wavy/strands.hair" --body $body --eccentricity $e_caucasian
-render "$out/wet.png" "$out/wavy_wet/strands.hair" --body $body --eccentricity $e_caucasian
+# 2. Dry vs wet: the wet hair's shape and its optics (a water film darkens it; docs/rendering.md),
+#    both groomed or styled and rendered in one process (--render: a .hair file does not carry
+#    the wetness), same camera.
+for state in dry wet; do
+  $python - "$out/wavy_$state.json" "$out/camera.json" "$state" <<'EOF'
+import json, os, sys
+source = "examples/hairstyles/wavy_mannequin.json"
+style = json.load(open(source))
+style["body"] = os.path.abspath(os.path.join(os.path.dirname(source), style["body"]))
+style.setdefault("render", {}).update(json.load(open(sys.argv[2]))["render"])
+if sys.argv[3] == "wet":
+    style["operations"] = [{"wet": {}}]
+json.dump(style, open(sys.argv[1], "w"), indent=1)
+EOF
+  command=groom  # ringlet style needs an operation: the dry hair is groomed
+  [ "$state" = wet ] && command=style
+  echo "== $command wavy_$state --render"
+  "$ringlet" $command "$out/wavy_$state.json" -o "$out/wavy_$state" --force --render \
+    --width "$size" --height "$size" --spp "$spp" | tee "$out/wavy_$state.log"
+done
 $python scripts/combine_images.py -o "$images/render_wet.png" \
-  "$out/dry.png" "wavy, dry" "$out/wet.png" "wavy, wet (E / 10, swollen, heavier)"
+  "$out/wavy_dry/render.png" "wavy, dry" \
+  "$out/wavy_wet/render.png" "wavy, wet (E / 10, swollen, heavier, darker)"
+e_caucasian=0.705  # sqrt(1 - 1/1.41^2): caucasian ellipticity 1.41 (docs/hair-types.md)
 
 # 3. Circular vs elliptic fibres on the same (straight) groom, close up on the side of the head
 #    with the key light on the camera's side, so that the highlights show: only the optics
