@@ -16,7 +16,7 @@
 //     S_a^T (Gamma_b S_b + own samples of b) with Gamma_b = sum_(s past b) E_s^T Phi_s E_s.
 // The diagonal blocks add the segment's own second derivatives: the Jacobian of its closed-form
 // gradient (HelixSegmentVjp and HelixChordVjp with the adjoints held fixed), in closed form from
-// the G_m (helix.h) and their derivatives up to G_8 (OwnHessian below).
+// the G_m (helix.h) and their derivatives up to G_8 (OwnHessianSum below).
 #include "ringlet/strand_hessian.h"
 
 #include <algorithm>
@@ -102,14 +102,22 @@ Coefficients CoefficientsOf(int m, double l, const double g[9]) {
 // d(A e3)/dOmega (3x3, column k for Omega_k) with A = a0 I + a1 W + a2 W^2:
 //   (W e3)(b1 Omega)^T - a1 [e3]x + (W^2 e3)(b2 Omega)^T - a2 ([W e3]x + W [e3]x),
 // from d(W v)/dOmega_k = e_k x v = -[v]x e_k.
+// With W [e3]x = e3 Omega^T - Omega_z I this is u Omega^T + a2 Omega_z I - [a1 e3 + a2 W e3]x,
+// u = b1 W e3 + b2 W^2 e3 - a2 e3: one outer product and a skew matrix, no 3 x 3 products.
 Mat3 ChordDerivative(const Vec3& omega, const Coefficients& c) {
-  const Vec3 e3(0.0, 0.0, 1.0);
-  const Mat3 w = Hat(omega);
-  const Vec3 we3 = omega.cross(e3);
+  const Vec3 we3(omega.y(), -omega.x(), 0.0);  // Omega x e3
   const Vec3 w2e3 = omega.cross(we3);
-  const Mat3 hat_e3 = Hat(e3);
-  return (c.b1 * we3) * omega.transpose() - c.a1 * hat_e3 + (c.b2 * w2e3) * omega.transpose() -
-         c.a2 * (Hat(we3) + w * hat_e3);
+  const Vec3 u = c.b1 * we3 + c.b2 * w2e3 - Vec3(0.0, 0.0, c.a2);
+  Mat3 d = u * omega.transpose() - Hat(c.a2 * we3 + Vec3(0.0, 0.0, c.a1));
+  d.diagonal().array() += c.a2 * omega.z();
+  return d;
+}
+
+// [a]x M, column by column (a x M e_k): cheaper than forming [a]x and a 3 x 3 product.
+Mat3 CrossColumns(const Vec3& a, const Mat3& m) {
+  Mat3 out;
+  for (int k = 0; k < 3; ++k) out.col(k) = a.cross(m.col(k));
+  return out;
 }
 
 // The Hessian in Omega of <X, A(Omega)> (X fixed), A = a0 I + a1 W + a2 W^2. With v = Vee(X),
@@ -118,34 +126,53 @@ Mat3 ChordDerivative(const Vec3& omega, const Coefficients& c) {
 //   b1 (Omega v^T + v Omega^T) + (Omega . v)(b1 I + c1 Omega Omega^T)
 //   + rho (b2 I + c2 Omega Omega^T) + 2 b2 (Omega (M Omega)^T + (M Omega) Omega^T) + 2 a2 M.
 // Its gradient, a1 v + b1 (Omega . v) Omega + 2 a2 M Omega + b2 rho Omega, is HelixSegmentVjp's.
-// The common part, given v, M, M Omega.
-Mat3 OwnHessianFrom(const Vec3& omega, const Coefficients& c, const Vec3& v, const Mat3& m,
-                    const Vec3& m_omega) {
-  const double rho = omega.dot(m_omega);
-  const double ov = omega.dot(v);
-  const Mat3 oo = omega * omega.transpose();
-  Mat3 h = c.b1 * (omega * v.transpose() + v * omega.transpose()) + ov * c.c1 * oo +
-           rho * c.c2 * oo + (2.0 * c.b2) * (omega * m_omega.transpose() + m_omega * omega.transpose()) +
-           (2.0 * c.a2) * m;
-  h.diagonal().array() += ov * c.b1 + rho * c.b2;
-  return h;
-}
+// A segment's own Hessian is a sum of such terms (its rotation, chord, first moment and contact
+// samples, each with its own coefficients and X); they are accumulated as
+//   Omega t^T + t Omega^T + s Omega Omega^T + M_sum + diag I,
+// t = sum (b1 v + 2 b2 M Omega), s = sum ((Omega . v) c1 + rho c2), M_sum = sum 2 a2 M,
+// diag = sum ((Omega . v) b1 + rho b2), and the outer products formed once.
+class OwnHessianSum {
+ public:
+  explicit OwnHessianSum(const Vec3& omega) : omega_(omega) {}
 
-Mat3 OwnHessian(const Vec3& omega, const Coefficients& c, const Mat3& x) {
-  const Mat3 m = 0.5 * (x + x.transpose()) - x.trace() * Mat3::Identity();
-  return OwnHessianFrom(omega, c, Vee(x), m, m * omega);
-}
+  // <X, A> for a general X (the rotation's term).
+  void AddMatrix(const Coefficients& c, const Mat3& x) {
+    const Mat3 m = 0.5 * (x + x.transpose()) - x.trace() * Mat3::Identity();
+    Add(c, Vee(x), m, m * omega_);
+  }
+  // <X, A> for a chord, X = d e3^T: v = e3 x d, M = (d e3^T + e3 d^T)/2 - d_z I.
+  void AddChord(const Coefficients& c, const Vec3& d) {
+    Mat3 m = Mat3::Zero();
+    m.col(2) = 0.5 * d;
+    m.row(2) += 0.5 * d.transpose();
+    m.diagonal().array() -= d.z();
+    const Vec3 m_omega = 0.5 * (omega_.z() * d + d.dot(omega_) * Vec3::UnitZ()) - d.z() * omega_;
+    Add(c, Vec3(-d.y(), d.x(), 0.0), m, m_omega);
+  }
 
-// OwnHessian for a chord, X = d e3^T: v = e3 x d, M = (d e3^T + e3 d^T)/2 - d_z I.
-Mat3 ChordOwnHessian(const Vec3& omega, const Coefficients& c, const Vec3& d) {
-  Mat3 m = Mat3::Zero();
-  m.col(2) = 0.5 * d;
-  m.row(2) += 0.5 * d.transpose();
-  m.diagonal().array() -= d.z();
-  const Vec3 m_omega = 0.5 * (omega.z() * d + d.dot(omega) * Vec3::UnitZ()) - d.z() * omega;
-  return OwnHessianFrom(omega, c, Vec3(-d.y(), d.x(), 0.0), m, m_omega);
-}
+  Mat3 Hessian() const {
+    Mat3 h = omega_ * t_.transpose() + t_ * omega_.transpose() +
+             s_ * (omega_ * omega_.transpose()) + m_;
+    h.diagonal().array() += diagonal_;
+    return h;
+  }
 
+ private:
+  void Add(const Coefficients& c, const Vec3& v, const Mat3& m, const Vec3& m_omega) {
+    const double rho = omega_.dot(m_omega);
+    const double ov = omega_.dot(v);
+    t_ += c.b1 * v + (2.0 * c.b2) * m_omega;
+    s_ += ov * c.c1 + rho * c.c2;
+    m_ += (2.0 * c.a2) * m;
+    diagonal_ += ov * c.b1 + rho * c.b2;
+  }
+
+  Vec3 omega_;
+  Vec3 t_ = Vec3::Zero();
+  double s_ = 0.0;
+  Mat3 m_ = Mat3::Zero();
+  double diagonal_ = 0.0;
+};
 
 // One segment of the forward sweep: start frame, closed forms and their first derivatives.
 struct SegmentData {
@@ -210,18 +237,23 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
     const Vec3 omega = curvatures.segment<3>(3 * i);
     SegmentData& s = segments[static_cast<size_t>(i)];
     s.frame = q;
-    const HelixSegment helix = EvaluateHelixSegment(omega, l);  // values as in the gradient
-    s.rotation = helix.rotation;
-    s.chord = helix.chord;
-    s.moment = helix.moment;
     double g[9];
     HelixFunctions8(l * omega.norm(), g);
     for (int mm = 1; mm <= 3; ++mm) s.coefficients[mm] = CoefficientsOf(mm, l, g);
+    // The closed forms of helix.h from the same G_m: R = A_1, p = A_2 e3, c = A_3 e3 with
+    // A_m = l^(m-1)/(m-1)! I + a1 W + a2 W^2 (the gradient's values to rounding).
+    const Mat3 w = Hat(omega);
+    Mat3 w2 = omega * omega.transpose();  // W^2 = Omega Omega^T - |Omega|^2 I
+    w2.diagonal().array() -= omega.squaredNorm();
+    const Coefficients& c1 = s.coefficients[1];
+    const Coefficients& c2 = s.coefficients[2];
+    const Coefficients& c3 = s.coefficients[3];
+    s.rotation = Mat3::Identity() + c1.a1 * w + c1.a2 * w2;
+    s.chord = Vec3(0.0, 0.0, l) + c2.a1 * w.col(2) + c2.a2 * w2.col(2);
+    s.moment = Vec3(0.0, 0.0, 0.5 * l * l) + c3.a1 * w.col(2) + c3.a2 * w2.col(2);
     // The rotation's left Jacobian: dR R^T = [J dOmega]x with J = l I + l^2 G2 W + l^3 G3 W^2
     // (A_2, the integral of exp(u W) over the segment).
-    const Mat3 w = Hat(omega);
-    const Coefficients& c2 = s.coefficients[2];
-    const Mat3 jacobian = l * Mat3::Identity() + c2.a1 * w + c2.a2 * (w * w);
+    const Mat3 jacobian = l * Mat3::Identity() + c2.a1 * w + c2.a2 * w2;
     s.jacobian = jacobian;
     s.d_chord = ChordDerivative(omega, s.coefficients[2]);
     s.d_moment = ChordDerivative(omega, s.coefficients[3]);
@@ -288,17 +320,21 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
     const Vec3 omega = curvatures.segment<3>(3 * i);
 
     // The Jacobian of the segment's own gradient (HelixSegmentVjp), adjoints fixed.
-    Mat3 own = OwnHessian(omega, s.coefficients[1], qt * q_bar) +
-               ChordOwnHessian(omega, s.coefficients[2], qt * r_bar) +
-               ChordOwnHessian(omega, s.coefficients[3], -(qt * f));
-    // dQbar_i/dOmega_k with the loads fixed (the update of q_bar below, differentiated).
-    // dR_k = [J e_k]x R, so q_bar dR_k^T = -(q_bar R^T) [J e_k]x.
-    const Mat3 q_bar_rt = q_bar * s.rotation.transpose();
-    Mat3 dq_bar[3];
-    for (int k = 0; k < 3; ++k) {
-      dq_bar[k] = -(q_bar_rt * Hat(s.jacobian.col(k))) + r_bar * s.d_chord.col(k).transpose() -
-                  f * s.d_moment.col(k).transpose();
-    }
+    OwnHessianSum own(omega);
+    own.AddMatrix(s.coefficients[1], qt * q_bar);
+    own.AddChord(s.coefficients[2], qt * r_bar);
+    own.AddChord(s.coefficients[3], -(qt * f));
+    // dQbar_i/dOmega_k with the loads fixed (the update of q_bar below, differentiated):
+    // dR_k = [J e_k]x R, so q_bar dR_k^T = -(q_bar R^T) [J e_k]x, and
+    //   dQbar_k = -(q_bar R^T) [J e_k]x + r_bar (dp_k)^T - f (dc_k)^T (+ each sample's F (dh_k)^T).
+    // Its moment, column k of B's top rows, is Vee(dQbar_k Q_i^T). With B = q_bar R^T Q_i^T,
+    // Vee(B [v]x) = (tr(B) I - B^T) v (v = Q_i J e_k) and Vee(a b^T) = b x a, all three columns
+    // at once: -(tr(B) I - B^T) Q_i J - [r_bar]x Q_i dp + [f]x Q_i dc - sum [F]x Q_i dh.
+    const Mat3 q_bar_rt = q_bar * s.rotation.transpose();  // also the adjoint's update below
+    const Mat3 moved = q_bar_rt * qt;
+    Mat3 load_top = -(moved.trace() * Mat3::Identity() - moved.transpose()) * twist.topRows<3>() -
+                    CrossColumns(r_bar, s.frame * s.d_chord) +
+                    CrossColumns(f, s.frame * s.d_moment);
     Mat63 b = Mat63::Zero();
     Mat3 d = Mat3::Zero();
     if (!samples.empty() && c + 1 < static_cast<int>(samples.size())) {  // Gamma != 0
@@ -309,24 +345,23 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
     const int last = c;
     for (; c >= 0 && samples[static_cast<size_t>(c)].segment == i; --c) {
       const SampleData& p = samples[static_cast<size_t>(c)];
-      own += ChordOwnHessian(omega, p.coefficients, qt * p.force);
+      own.AddChord(p.coefficients, qt * p.force);
       const Mat3 jacobian = s.frame * p.d_h;  // dy/dOmega_i
       const Mat36 e = PointMotion(p.y);
       d += jacobian.transpose() * p.phi * jacobian;
       b += e.transpose() * p.phi * jacobian;
       gamma_own += e.transpose() * p.phi * e;
-      for (int k = 0; k < 3; ++k) dq_bar[k] += p.force * p.d_h.col(k).transpose();
+      load_top -= CrossColumns(p.force, jacobian);
     }
-    d += own;
+    d += own.Hessian();
     d.diagonal() += l * stiffness;  // elastic, eq. 3
     hessian->diagonal[static_cast<size_t>(i)] = 0.5 * (d + d.transpose());
-    for (int k = 0; k < 3; ++k) b.block<3, 1>(0, k) += Vee(dq_bar[k] * s.frame.transpose());
+    b.topRows<3>() += load_top;
     hessian->load[static_cast<size_t>(i)] = b;
     gamma += gamma_own;
 
     // Advance the adjoints exactly as the gradient sweep does.
-    q_bar = q_bar * s.rotation.transpose() + r_bar * s.chord.transpose() -
-            f * s.moment.transpose();
+    q_bar = q_bar_rt + r_bar * s.chord.transpose() - f * s.moment.transpose();
     r_bar -= l * f;
     for (int j = last; j > c; --j) {
       const SampleData& p = samples[static_cast<size_t>(j)];
@@ -428,8 +463,8 @@ bool StrandHessianFactor::Factor(const StrandHessian& hessian, double shift) {
       const auto s = hessian.twist[static_cast<size_t>(k)].topRows<3>();
       Mat63& b = reduced_load_[static_cast<size_t>(k)];
       b.bottomRows<3>().setZero();
-      b.topRows<3>().noalias() = hessian.load[static_cast<size_t>(k)].topRows<3>() - c * s;
       const Mat3 cs = c * s;
+      b.topRows<3>() = hessian.load[static_cast<size_t>(k)].topRows<3>() - cs;
       Mat3 d = hessian.diagonal[static_cast<size_t>(k)] - s.transpose() * cs;
       d = 0.5 * (d + d.transpose());
       d.diagonal().array() -= shift;
