@@ -598,6 +598,22 @@ void FieldCheckbox(App* app, const char* label, const std::string& field, bool f
   if (ImGui::Checkbox(label, &value)) SetField(app, field, value);
 }
 
+// A 3-vector field (e.g. comb.direction), edited component by component.
+void FieldVector3(App* app, const char* label, const std::string& field, float min, float max,
+                  const float fallback[3]) {
+  const nlohmann::ordered_json v = app->session.Parameter(field);
+  float value[3] = {fallback[0], fallback[1], fallback[2]};
+  if (v.is_array() && v.size() == 3) {
+    for (int k = 0; k < 3; ++k) {
+      if (v[k].is_number()) value[k] = v[k].get<float>();
+    }
+  }
+  ImGui::SliderFloat3(label, value, min, max, "%.2f");
+  if (ImGui::IsItemDeactivatedAfterEdit()) {
+    SetField(app, field, nlohmann::ordered_json::array({value[0], value[1], value[2]}));
+  }
+}
+
 void FieldCombo(App* app, const char* label, const std::string& field,
                 const std::vector<const char*>& items, const char* fallback) {
   const nlohmann::ordered_json v = app->session.Parameter(field);
@@ -706,6 +722,19 @@ void Panel(App* app) {
     }
     ImGui::EndDisabled();
     FieldInt(app, "hair seed", "hair.seed", 0, 100, 1);
+    // The section and the natural curl in the groomer's terms (hair.ellipticity,
+    // hair.curl_radius, hair.curl_pitch), shown at the hair type's means until set.
+    if (const auto hair = s.Hair()) {
+      const HairType& type = hair->styled.style.hair_type;
+      FieldSlider(app, "ellipticity (a/b)", "hair.ellipticity", 1.0f, 3.0f,
+                  static_cast<float>(type.ellipticity));
+      ImGui::BeginDisabled(type.IsStraight());  // no helix to size (the reader refuses it)
+      FieldSlider(app, "curl radius (m)", "hair.curl_radius", 0.0005f, 0.1f,
+                  type.IsStraight() ? 0.0f : static_cast<float>(type.curl_radius), "%.4f");
+      FieldSlider(app, "curl pitch (m)", "hair.curl_pitch", 0.0f, 0.2f,
+                  type.IsStraight() ? 0.0f : static_cast<float>(type.curl_pitch), "%.4f");
+      ImGui::EndDisabled();
+    }
   }
   if (ImGui::CollapsingHeader("Masters and wisps")) {
     ImGui::BeginDisabled(explicit_masters);
@@ -713,6 +742,16 @@ void Panel(App* app) {
     FieldInt(app, "root seed", "masters.seed", 0, 100, 0);
     ImGui::EndDisabled();
     FieldInt(app, "strands/wisp", "wisps.strands_per_wisp", 1, 200, 100);
+    // Wisp size: "auto" (from each master's curliness) until set; the button restores it.
+    if (const auto hair = s.Hair(); hair && !hair->styled.masters.wisp_radii.empty()) {
+      const std::vector<double>& radii = hair->styled.masters.wisp_radii;
+      double mean = 0.0;
+      for (const double r : radii) mean += r / static_cast<double>(radii.size());
+      FieldSlider(app, "wisp radius (m)", "wisps.radius", 0.0005f, 0.02f,
+                  static_cast<float>(mean), "%.4f");
+      ImGui::SameLine();
+      if (ImGui::SmallButton("auto")) SetField(app, "wisps.radius", "auto");
+    }
     FieldSlider(app, "tip scale", "wisps.tip_scale", 0.0f, 2.0f, 0.5f);
     FieldSlider(app, "jitter (m)", "wisps.jitter", 0.0f, 0.01f, 0.0f, "%.4f");
     FieldSlider(app, "length var.", "wisps.length_variation", 0.0f, 0.5f, 0.1f);
@@ -721,7 +760,10 @@ void Panel(App* app) {
   }
   if (ImGui::CollapsingHeader("Comb")) {
     ImGui::BeginDisabled(explicit_masters);
+    const float down[3] = {0.0f, 0.0f, -1.0f};
+    FieldVector3(app, "direction", "comb.direction", -1.0f, 1.0f, down);
     FieldSlider(app, "tilt (rad)", "comb.tilt", 0.0f, 1.5707f, 1.2f);
+    FieldSlider(app, "face sweep", "comb.face_sweep", 0.0f, 2.0f, 0.0f);
     FieldSlider(app, "parting offset", "comb.parting.offset", -0.08f, 0.08f, 0.0f);
     FieldCheckbox(app, "waves laid into the head", "comb.curl_inward", false);
     ImGui::EndDisabled();

@@ -356,6 +356,65 @@ TEST(HairstyleJson, HeadSphereComesFromTheBody) {
   EXPECT_TRUE(b.solve_children);
 }
 
+// hair.ellipticity, hair.curl_radius, hair.curl_pitch over the type's means (the studio's
+// section and curl controls): the spreads scale with them, a radius alone keeps the helix angle,
+// the masters' natural curvature follows, a straight type refuses a helix, and the bounds hold.
+TEST(HairstyleJson, HairSectionAndCurlOverrideTheTypeMeans) {
+  const Hairstyle base = MustParse(R"({"body": "../bodies/mannequin.json",
+      "hair": {"origin": "caucasian", "curl": "curly"}})");
+  const HairType& t0 = base.hair_type;
+  ASSERT_FALSE(t0.IsStraight());
+  ASSERT_GT(t0.ellipticity, 1.0);
+  const Hairstyle s = MustParse(R"({"body": "../bodies/mannequin.json",
+      "hair": {"origin": "caucasian", "curl": "curly", "ellipticity": 1.8,
+               "curl_radius": 0.02}})");
+  const HairType& t = s.hair_type;
+  EXPECT_EQ(t.ellipticity, 1.8);
+  EXPECT_NEAR(t.ellipticity_std, t0.ellipticity_std * 0.8 / (t0.ellipticity - 1.0), 1e-15);
+  EXPECT_EQ(t.curl_radius, 0.02);
+  const double scale = 0.02 / t0.curl_radius;
+  EXPECT_NEAR(t.curl_radius_std, t0.curl_radius_std * scale, 1e-15);
+  EXPECT_NEAR(t.curl_pitch, t0.curl_pitch * scale, 1e-15);  // the same helix angle
+  // The mean helix's curvature R / (R^2 + (p / 2 pi)^2) scales as 1 / R with the angle kept.
+  EXPECT_NEAR(t.MeanNaturalCurvature().norm(), t0.MeanNaturalCurvature().norm() / scale, 1e-9);
+  const Hairstyle pitched = MustParse(R"({"body": "../bodies/mannequin.json",
+      "hair": {"curl": "curly", "curl_pitch": 0.05}})");
+  EXPECT_EQ(pitched.hair_type.curl_pitch, 0.05);
+  EXPECT_EQ(pitched.hair_type.curl_radius, t0.curl_radius);
+  // The masters take it: their mean natural curvature changes with the radius.
+  HairstyleMasters a, b;
+  std::string error;
+  Hairstyle small_base = base, small = s;
+  small_base.roots.count = small.roots.count = 40;
+  ASSERT_TRUE(BuildMasters(small_base, &a, &error)) << error;
+  ASSERT_TRUE(BuildMasters(small, &b, &error)) << error;
+  double ka = 0.0, kb = 0.0;
+  for (size_t i = 0; i < a.models.size(); ++i) {
+    ka += a.models[i].NaturalCurvature(0).norm();
+    kb += b.models[i].NaturalCurvature(0).norm();
+  }
+  ASSERT_GT(std::abs(std::log(scale)), 0.3);  // not vacuous: the radius changed by > 35 %
+  EXPECT_NEAR(kb / ka, 1.0 / scale, 0.2 / scale);  // per-strand variation around the means
+
+  for (const auto& [text, message] : std::vector<std::pair<std::string, std::string>>{
+           {R"("hair": {"curl": "straight", "curl_radius": 0.01})",
+            "hair.curl_radius: the curl type \"straight\" has no helix"},
+           {R"("hair": {"curl": "straight", "curl_pitch": 0.01})",
+            "hair.curl_pitch: the curl type \"straight\" has no helix"},
+           {R"("hair": {"ellipticity": 0.9})", "hair.ellipticity: expected a finite a/b in [1, 10]"},
+           {R"("hair": {"curl_radius": 1e-9})",
+            "hair.curl_radius: expected a finite helix radius in [1e-4, 10] (m)"},
+           {R"("hair": {"curl_pitch": -1})",
+            "hair.curl_pitch: expected a finite helix pitch in [0, 10] (m)"}}) {
+    Hairstyle bad;
+    std::string why;
+    EXPECT_FALSE(ParseHairstyle(json::parse(R"({"body": "../bodies/mannequin.json", )" + text + "}"),
+                                HairstyleDir(), &bad, &why))
+        << text;
+    EXPECT_EQ(why.rfind(message, 0), 0u) << why;
+  }
+}
+
 TEST(HairstyleJson, MeshScalpTakesTheTrianglesInsideTheHairline) {
   const Hairstyle s = MustParse(R"({"body": "../bodies/mannequin_mesh.json",
       "scalp": {"mesh": "head", "hairline_front": 1.0, "hairline_side": 1.4,

@@ -470,6 +470,32 @@ TEST(StudioLength, RegionalLengthsAreEditedOneByOne) {
 
 // The comb panel's "waves laid into the head" box sets comb.curl_inward: the re-solved masters
 // start their curl into the head (kappa1^0 > 0); a non-boolean is refused with the CLI's message.
+// The panel's section, curl, wisp-size and comb controls are fields of the file: each edit
+// re-solves and reaches the model, and a bad value keeps the hair with the reader's message.
+TEST(StudioFields, SectionCurlWispSizeAndCombAreFields) {
+  Session session;
+  std::string error;
+  ASSERT_TRUE(session.OpenDocument(SmallDocument(16), RINGLET_EXAMPLES_DIR, "s.json", &error))
+      << error;
+  session.Wait();
+  const double radius_before = session.Hair()->styled.style.hair_type.curl_radius;
+  ASSERT_TRUE(session.SetParameter("hair.ellipticity", 1.6, &error)) << error;
+  ASSERT_TRUE(session.SetParameter("hair.curl_radius", 2.0 * radius_before, &error)) << error;
+  ASSERT_TRUE(session.SetParameter("wisps.radius", 0.004, &error)) << error;
+  ASSERT_TRUE(session.SetParameter("comb.face_sweep", 1.0, &error)) << error;
+  ASSERT_TRUE(session.SetParameter("comb.direction", ojson::array({0.0, -0.3, -1.0}), &error))
+      << error;
+  session.Wait();
+  const StyledHair& hair = session.Hair()->styled;
+  EXPECT_EQ(hair.style.hair_type.ellipticity, 1.6);
+  EXPECT_EQ(hair.style.hair_type.curl_radius, 2.0 * radius_before);
+  EXPECT_EQ(hair.style.wisps.wisp_radius, 0.004);
+  for (const double r : hair.masters.wisp_radii) EXPECT_EQ(r, 0.004);
+  EXPECT_FALSE(session.SetParameter("hair.ellipticity", 0.5, &error));
+  EXPECT_EQ(error.rfind("hair.ellipticity: expected a finite a/b in [1, 10]", 0), 0u) << error;
+  EXPECT_EQ(session.Hair()->styled.style.hair_type.ellipticity, 1.6);  // kept
+}
+
 TEST(StudioComb, CurlInwardIsAField) {
   Session session;
   std::string error;

@@ -41,6 +41,15 @@ constexpr NumberRule kUnitInterval{"a finite number in [0, 1)",
                                    [](double x) { return x >= 0.0 && x < 1.0; }};
 constexpr NumberRule kStiffnessRule{"a finite number >= 0 (N/m^2; 0 = the default)",
                                     [](double x) { return x >= 0.0; }};
+// The hair's own section and curl (hair.ellipticity, hair.curl_radius, hair.curl_pitch): bounds
+// that keep a strand's natural curvature below 1e4 1/m (1 / 0.1 mm, tighter than any measured
+// hair: kinky curls have R ~ 1-5 mm, hair-types.md) and the section a real ellipse.
+constexpr NumberRule kEllipticityRule{"a finite a/b in [1, 10]",
+                                      [](double x) { return x >= 1.0 && x <= 10.0; }};
+constexpr NumberRule kCurlRadiusRule{"a finite helix radius in [1e-4, 10] (m)",
+                                     [](double x) { return x >= 1e-4 && x <= 10.0; }};
+constexpr NumberRule kHairPitchRule{"a finite helix pitch in [0, 10] (m)",
+                                    [](double x) { return x >= 0.0 && x <= 10.0; }};
 constexpr NumberRule kGradingRule{"a finite number >= 1 (last/first segment length) or \"auto\"",
                                   [](double x) { return x >= 1.0; }};
 constexpr NumberRule kPackingRule{"a finite number in (0, 0.69]",
@@ -254,13 +263,46 @@ bool ParseComb(Reader& reader, const json& document, Hairstyle* style) {
   return true;
 }
 
+// hair.ellipticity, hair.curl_radius and hair.curl_pitch over the hair type's means (the
+// groomer's section and curl): each keeps the type's relative spread between strands (the
+// excess ellipticity's, the radius's), and a radius without a pitch keeps the type's helix angle
+// (the pitch scales with the radius). A straight type has no helix to resize.
+bool ParseHairOverrides(Reader& reader, const json& hair, HairType* type) {
+  const std::string path = "hair";
+  double ellipticity = type->ellipticity;
+  double radius = type->curl_radius, pitch = -1.0;
+  if (!reader.ReadNumber(hair, path, "ellipticity", kEllipticityRule, false, &ellipticity) ||
+      !reader.ReadNumber(hair, path, "curl_radius", kCurlRadiusRule, false, &radius) ||
+      !reader.ReadNumber(hair, path, "curl_pitch", kHairPitchRule, false, &pitch)) {
+    return false;
+  }
+  const double excess = type->ellipticity - 1.0;
+  type->ellipticity_std = excess > 0.0 ? type->ellipticity_std * (ellipticity - 1.0) / excess : 0.0;
+  type->ellipticity = ellipticity;
+  const bool resized = hair.contains("curl_radius"), pitched = hair.contains("curl_pitch");
+  if ((resized || pitched) && type->IsStraight()) {
+    return reader.Fail(Member(path, resized ? "curl_radius" : "curl_pitch"),
+                       "the curl type \"" + type->curl +
+                           "\" has no helix: choose \"wavy\", \"curly\" or \"kinky\"");
+  }
+  if (resized) {
+    const double scale = radius / type->curl_radius;
+    type->curl_radius_std *= scale;
+    type->curl_pitch *= scale;
+    type->curl_radius = radius;
+  }
+  if (pitched) type->curl_pitch = pitch;
+  return true;
+}
+
 bool ParseHair(Reader& reader, const json& document, Hairstyle* style) {
   const json* hair = nullptr;
   if (!OptionalObject(reader, document, "", "hair", &hair)) return false;
   std::string origin = "caucasian", curl;
   if (hair) {
     const std::string path = "hair";
-    if (!reader.CheckFields(*hair, path, {"origin", "curl", "length", "seed"}) ||
+    if (!reader.CheckFields(*hair, path, {"origin", "curl", "length", "seed", "ellipticity",
+                                          "curl_radius", "curl_pitch"}) ||
         !ReadSeed(reader, *hair, path, "seed", &style->seed)) {
       return false;
     }
@@ -297,7 +339,7 @@ bool ParseHair(Reader& reader, const json& document, Hairstyle* style) {
     if (why.rfind(own_prefix, 0) == 0) why.erase(0, own_prefix.size());
     return reader.Fail(origin_ok ? "hair.curl" : "hair.origin", why);
   }
-  return true;
+  return !hair || ParseHairOverrides(reader, *hair, &style->hair_type);
 }
 
 bool ParseWisps(Reader& reader, const json& document, Hairstyle* style) {
