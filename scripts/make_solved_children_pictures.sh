@@ -4,7 +4,8 @@
 # as a rod (examples/hairstyles/wavy_solved_children.json), path traced from the front and from
 # the side, with the groom summaries (times, penetration) in BUILD_DIR/solved_children/*.log.
 #
-#   scripts/make_solved_children_pictures.sh [BUILD_DIR] [IMAGE_DIR]   (defaults: build, docs/images)
+#   scripts/make_solved_children_pictures.sh [BUILD_DIR] [IMAGE_DIR]
+#   (defaults: build, docs/images)
 #
 # Needs ringlet built in BUILD_DIR and Debian's /usr/bin/python3 with matplotlib. Environment:
 # SIZE (pixels, default 400), SPP (samples per pixel, default 16).

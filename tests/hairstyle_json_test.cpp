@@ -401,15 +401,16 @@ TEST(HairstyleJson, HairSectionAndCurlOverrideTheTypeMeans) {
             "hair.curl_radius: the curl type \"straight\" has no helix"},
            {R"("hair": {"curl": "straight", "curl_pitch": 0.01})",
             "hair.curl_pitch: the curl type \"straight\" has no helix"},
-           {R"("hair": {"ellipticity": 0.9})", "hair.ellipticity: expected a finite a/b in [1, 10]"},
+           {R"("hair": {"ellipticity": 0.9})",
+            "hair.ellipticity: expected a finite a/b in [1, 10]"},
            {R"("hair": {"curl_radius": 1e-9})",
             "hair.curl_radius: expected a finite helix radius in [1e-4, 10] (m)"},
            {R"("hair": {"curl_pitch": -1})",
             "hair.curl_pitch: expected a finite helix pitch in [0, 10] (m)"}}) {
     Hairstyle bad;
     std::string why;
-    EXPECT_FALSE(ParseHairstyle(json::parse(R"({"body": "../bodies/mannequin.json", )" + text + "}"),
-                                HairstyleDir(), &bad, &why))
+    const std::string document = R"({"body": "../bodies/mannequin.json", )" + text + "}";
+    EXPECT_FALSE(ParseHairstyle(json::parse(document), HairstyleDir(), &bad, &why))
         << text;
     EXPECT_EQ(why.rfind(message, 0), 0u) << why;
   }
