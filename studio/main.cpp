@@ -726,12 +726,12 @@ void Panel(App* app) {
     // hair.curl_radius, hair.curl_pitch), shown at the hair type's means until set.
     if (const auto hair = s.Hair()) {
       const HairType& type = hair->styled.style.hair_type;
-      FieldSlider(app, "ellipticity (a/b)", "hair.ellipticity", 1.0f, 3.0f,
+      FieldSlider(app, "a/b", "hair.ellipticity", 1.0f, 3.0f,
                   static_cast<float>(type.ellipticity));
       ImGui::BeginDisabled(type.IsStraight());  // no helix to size (the reader refuses it)
-      FieldSlider(app, "curl radius (m)", "hair.curl_radius", 0.0005f, 0.1f,
+      FieldSlider(app, "natural R (m)", "hair.curl_radius", 0.0005f, 0.1f,
                   type.IsStraight() ? 0.0f : static_cast<float>(type.curl_radius), "%.4f");
-      FieldSlider(app, "curl pitch (m)", "hair.curl_pitch", 0.0f, 0.2f,
+      FieldSlider(app, "natural pitch (m)", "hair.curl_pitch", 0.0f, 0.2f,
                   type.IsStraight() ? 0.0f : static_cast<float>(type.curl_pitch), "%.4f");
       ImGui::EndDisabled();
     }
