@@ -15,6 +15,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -748,6 +749,31 @@ TEST(AtomicFile, WritesNewFileAndLeavesNoTemporary) {
   std::string error;
   ASSERT_TRUE(WriteFileAtomically(path, "hello\n", false, &error)) << error;
   EXPECT_EQ(ReadAll(path), "hello\n");
+  EXPECT_EQ(dir.Entries(), std::vector<std::string>{"out.json"});
+}
+
+// The producer form (ringlet solve's streamed result): the pieces in order, and a producer that
+// throws (out of memory while formatting) gives one line and leaves nothing behind, the user's
+// file untouched.
+TEST(AtomicFile, ProducerWritesPiecesAndAFailingOneLeavesNothing) {
+  TempDirectory dir;
+  const std::string path = dir.path() + "/out.json";
+  std::string error;
+  ASSERT_TRUE(WriteFileAtomically(
+      path, [](const FileSink& sink) { EXPECT_TRUE(sink("one, ") && sink("two\n")); }, false,
+      &error))
+      << error;
+  EXPECT_EQ(ReadAll(path), "one, two\n");
+  EXPECT_FALSE(WriteFileAtomically(
+      path,
+      [](const FileSink& sink) {
+        sink("partial");
+        throw std::bad_alloc();
+      },
+      true, &error));
+  EXPECT_EQ(error.rfind(path + ": cannot write: ", 0), 0u) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  EXPECT_EQ(ReadAll(path), "one, two\n");
   EXPECT_EQ(dir.Entries(), std::vector<std::string>{"out.json"});
 }
 

@@ -201,10 +201,15 @@ bool Stage(const std::string& path, const std::function<void(const FileSink&)>& 
     return Fail(error, path, what, number);
   };
   bool written = true;
-  produce([&](std::string_view piece) {
-    written = written && WriteAll(fd, piece, &error_number);
-    return written;
-  });
+  try {
+    produce([&](std::string_view piece) {
+      written = written && WriteAll(fd, piece, &error_number);
+      return written;
+    });
+  } catch (...) {  // a producer that fails (out of memory): reported, never thrown on
+    ::close(fd);
+    return abandon("cannot write", ENOMEM);
+  }
   if (!written) {
     ::close(fd);
     return abandon("cannot write", error_number);

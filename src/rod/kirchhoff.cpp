@@ -63,14 +63,15 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
 
   // t_end[i] = T(s_(i+1)) = int from the end of segment i to the tip of r ds (closed form per
   // segment: int_segment r = l r_i + Q_i c), accumulated from the tip.
-  std::vector<Vec3> t_end(n);
+  // whole_moment[i] = C(l_i), segment i's first moment in its start frame (helix.h).
+  std::vector<Vec3> t_end(n), whole_moment(n);
   std::vector<double> s_start(n);
   Vec3 acc = Vec3::Zero();
   for (int i = n - 1; i >= 0; --i) {
     t_end[i] = acc;
-    const HelixSegment seg = EvaluateHelixSegment(curvatures.segment<3>(3 * i),
-                                                  model.segment_lengths[i]);
-    acc += model.segment_lengths[i] * g.points[i] + g.frames[i] * seg.moment;
+    whole_moment[i] =
+        EvaluateHelixSegment(curvatures.segment<3>(3 * i), model.segment_lengths[i]).moment;
+    acc += model.segment_lengths[i] * g.points[i] + g.frames[i] * whole_moment[i];
   }
   double s = 0.0;
   for (int i = 0; i < n; ++i) {
@@ -124,7 +125,6 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
     }
     const Vec3 a1 = omega.cross(e3), a2 = omega.cross(a1);
     const double omega_norm = omega.norm();
-    const Vec3 whole_moment = EvaluateHelixSegment(omega, l).moment;  // C(l)
     // The material components of the moment of the load beyond r(u) about r(u):
     // R(u)^T F_i^T M(u), R(u)^T v = v - u G1 Omega x v + u^2 G2 Omega x (Omega x v).
     auto moment_below = [&](double u) {
@@ -133,7 +133,7 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
       const Vec3 chord = u * e3 + (u2 * h.g[2]) * a1 + (u3 * h.g[3]) * a2;
       const Vec3 first_moment = (0.5 * u2) * e3 + (u3 * h.g[3]) * a1 + (u3 * u * h.g[4]) * a2;
       const Vec3 r = root + chord;
-      const Vec3 t = beyond + (l - u) * root + (whole_moment - first_moment);
+      const Vec3 t = beyond + (l - u) * root + (whole_moment[i] - first_moment);
       Vec3 force = force_beyond, torque = torque_beyond;
       for (int c = c_begin; c < c_end; ++c) {
         if (contacts[c].u > u) {
