@@ -169,15 +169,87 @@ TEST(HairstyleJson, WavyExampleOnTheHeadMesh) {
   EXPECT_EQ(s.length_front, 0.13);
   EXPECT_EQ(s.length_side, 0.25);
   EXPECT_EQ(s.length_back, 0.32);
-  // L(phi) passes through the three values (RegionalLength's cosine curve) ...
-  EXPECT_NEAR(RegionalLength(s, 0.0), 0.13, 1e-15);
-  EXPECT_NEAR(RegionalLength(s, std::numbers::pi / 2), 0.25, 1e-15);
-  EXPECT_NEAR(RegionalLength(s, -std::numbers::pi / 2), 0.25, 1e-15);
-  EXPECT_NEAR(RegionalLength(s, std::numbers::pi), 0.32, 1e-15);
+  EXPECT_EQ(s.length_crown, 0.32);
+  EXPECT_EQ(s.crown_polar_angle, 0.85);  // the scalp's hairline_front
+  // Below the front hairline's polar angle (pi here) L(phi) passes through the three values
+  // (RegionalLength's cosine curve) ...
+  const double below = std::numbers::pi;
+  EXPECT_NEAR(RegionalLength(s, 0.0, below), 0.13, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, std::numbers::pi / 2, below), 0.25, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, -std::numbers::pi / 2, below), 0.25, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, std::numbers::pi, below), 0.32, 1e-15);
   // ... and between them, at 60 degrees: a1 = (F - B) / 2 = -0.095, a0 = ((F + B) / 2 + S) / 2 =
   // 0.2375, a2 = ((F + B) / 2 - S) / 2 = -0.0125 (by hand), so
   // L = a0 + a1 cos 60 + a2 cos 120 = 0.2375 - 0.0475 + 0.00625 = 0.19625 m.
-  EXPECT_NEAR(RegionalLength(s, std::numbers::pi / 3), 0.19625, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, std::numbers::pi / 3, below), 0.19625, 1e-15);
+  // Toward the crown the length blends linearly in the polar angle to length.crown: at the
+  // crown itself 0.32 m whatever the azimuth, halfway to the front hairline (0.425 rad) the
+  // fringe's 0.13 m is halfway to it, (0.13 + 0.32) / 2 = 0.225 m.
+  EXPECT_NEAR(RegionalLength(s, 0.0, 0.0), 0.32, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, std::numbers::pi / 2, 0.0), 0.32, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, 0.0, 0.425), 0.225, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, 0.0, 0.85), 0.13, 1e-15);
+}
+
+// hair.curl_spread sets the relative spread of the curl radius between strands (one person's
+// hair rather than the curl type's population), after curl_radius has set the mean; the
+// masters' sampled radii follow it.
+TEST(HairstyleJson, CurlSpreadSetsTheRadiusSpread) {
+  const Hairstyle wavy = MustParse(R"({"body": "../bodies/mannequin.json",
+      "hair": {"curl": "wavy"}})");
+  const Hairstyle s = MustParse(R"({"body": "../bodies/mannequin.json",
+      "hair": {"curl": "wavy", "curl_spread": 0.1, "curl_radius": 0.03}})");
+  EXPECT_EQ(s.hair_type.curl_radius, 0.03);
+  EXPECT_NEAR(s.hair_type.curl_radius_std, 0.003, 1e-17);
+  const Hairstyle none = MustParse(R"({"body": "../bodies/mannequin.json",
+      "hair": {"curl": "wavy", "curl_spread": 0}})");
+  EXPECT_EQ(none.hair_type.curl_radius_std, 0.0);
+  // Sampled: the relative SD of the masters' helix radii, the type's (0.52: 0.023 / 0.044 m,
+  // hair-types.md) against 0.1 and 0.
+  auto relative_sd = [](const Hairstyle& style) {
+    Hairstyle small = style;
+    small.roots.count = 400;
+    HairstyleMasters m;
+    std::string error;
+    EXPECT_TRUE(BuildMasters(small, &m, &error)) << error;
+    double sum = 0.0, sum2 = 0.0;
+    for (const StrandModel& model : m.models) {
+      const Vec3 k = model.natural_curvature;  // R = kappa / (kappa^2 + tau^2)
+      const double r = std::abs(k.x()) / (k.x() * k.x() + k.z() * k.z());
+      sum += r;
+      sum2 += r * r;
+    }
+    const double n = static_cast<double>(m.models.size()), mean = sum / n;
+    return std::sqrt(std::max(0.0, sum2 / n - mean * mean)) / mean;
+  };
+  EXPECT_NEAR(relative_sd(wavy), 0.023 / 0.044, 0.1);
+  EXPECT_NEAR(relative_sd(s), 0.1, 0.02);
+  EXPECT_LT(relative_sd(none), 1e-12);
+}
+
+// hair.length.crown: the crown takes its own length, blending into L(phi) at the front
+// hairline's polar angle (RegionalLength's values are checked in WavyExampleOnTheHeadMesh);
+// it needs the regional object and a length in (0, 10] m.
+TEST(HairstyleJson, CrownLengthIsReadAndChecked) {
+  const Hairstyle s = MustParse(R"({"body": "../bodies/mannequin.json",
+      "scalp": {"hairline_front": 0.9},
+      "hair": {"length": {"front": 0.1, "side": 0.2, "back": 0.3, "crown": 0.4}}})");
+  EXPECT_EQ(s.length_crown, 0.4);
+  EXPECT_EQ(s.crown_polar_angle, 0.9);
+  EXPECT_NEAR(RegionalLength(s, 1.0, 0.0), 0.4, 1e-15);
+  EXPECT_NEAR(RegionalLength(s, 0.0, 0.3), 0.4 + (0.1 - 0.4) / 3.0, 1e-15);
+  EXPECT_EQ(MustParse(kMinimal).length_crown, 0.0);  // none by default
+  Hairstyle out;
+  std::string error;
+  const std::string base = R"({"body": "../bodies/mannequin.json", "hair": {"length": )";
+  for (const char* length : {R"({"front": 0.1, "side": 0.2, "back": 0.3, "crown": -0.1})",
+                             R"({"front": 0.1, "side": 0.2, "back": 0.3, "crown": 11})"}) {
+    error.clear();
+    EXPECT_FALSE(ParseHairstyle(nlohmann::json::parse(base + length + "}}"), HairstyleDir(),
+                                &out, &error));
+    EXPECT_NE(error.find("hair.length.crown: expected a finite number"), std::string::npos)
+        << error;
+  }
 }
 
 // A regional length whose cosine curve dips to 0 between its values is refused, naming the field.
@@ -406,7 +478,11 @@ TEST(HairstyleJson, HairSectionAndCurlOverrideTheTypeMeans) {
            {R"("hair": {"curl_radius": 1e-9})",
             "hair.curl_radius: expected a finite helix radius in [1e-4, 10] (m)"},
            {R"("hair": {"curl_pitch": -1})",
-            "hair.curl_pitch: expected a finite helix pitch in [0, 10] (m)"}}) {
+            "hair.curl_pitch: expected a finite helix pitch in [0, 10] (m)"},
+           {R"("hair": {"curl": "straight", "curl_spread": 0.1})",
+            "hair.curl_spread: the curl type \"straight\" has no helix"},
+           {R"("hair": {"curl_spread": 1.5})",
+            "hair.curl_spread: expected a finite relative standard deviation in [0, 1]"}}) {
     Hairstyle bad;
     std::string why;
     const std::string document = R"({"body": "../bodies/mannequin.json", )" + text + "}";

@@ -124,6 +124,15 @@ struct Hairstyle {
   double length_front = 0.25;
   double length_side = 0.25;
   double length_back = 0.25;
+  /// The crown's length (m; 0 = none, else in (0, 10], only with regional_length): a root at
+  /// polar angle theta from the head's up axis takes
+  ///   L(phi, theta) = length_crown + (L(phi) - length_crown) min(1, theta / crown_polar_angle),
+  /// so the hair of the crown, which falls over the back of the head, is cut to its own length
+  /// while the hairline keeps L(phi) (a fringe stays a fringe; without it the top of the head
+  /// takes the fringe's length and short, light strands there stand up). crown_polar_angle
+  /// (rad, in (0, pi)) is the scalp's hairline_front (the reader sets it).
+  double length_crown = 0.0;
+  double crown_polar_angle = 1.047;
   /// Segments per master strand, >= 1.
   int segments = 20;
   /// Last/first segment-length ratio (>= 1); 0 selects RecommendedGradingRatio per strand.
@@ -166,8 +175,9 @@ struct Hairstyle {
   bool IsValid(std::string* why) const;
 };
 
-/// The mean length (m) at azimuth phi (rad): `length`, or L(phi) with regional_length.
-double RegionalLength(const Hairstyle& style, double azimuth);
+/// The mean length (m) at a root of azimuth phi and polar angle theta (rad; HeadCoordinates):
+/// `length`, or L(phi) with regional_length, blended toward length_crown when it is set.
+double RegionalLength(const Hairstyle& style, double azimuth, double polar_angle);
 
 /// The master strands of a hairstyle, ready to solve: roots and one StrandModel per root.
 struct HairstyleMasters {

@@ -47,15 +47,26 @@ int HullLayerOf(const HullLayers& layers, double polar_angle, double max_polar_a
   return std::min(layers.count - 1, static_cast<int>(std::floor(layers.count * depth)));
 }
 
-double RegionalLength(const Hairstyle& style, double azimuth) {
-  if (!style.regional_length) return style.length;
-  // Through (0, front), (pi/2, side), (pi, back): a1 = (f - b) / 2, a0 + a2 = (f + b) / 2,
-  // a0 - a2 = s.
+namespace {
+
+// L(phi) through (0, front), (pi/2, side), (pi, back): a1 = (f - b) / 2, a0 + a2 = (f + b) / 2,
+// a0 - a2 = s.
+double AzimuthLength(const Hairstyle& style, double azimuth) {
   const double f = style.length_front, s = style.length_side, b = style.length_back;
   const double a1 = 0.5 * (f - b);
   const double a0 = 0.25 * (f + b) + 0.5 * s;
   const double a2 = 0.25 * (f + b) - 0.5 * s;
   return a0 + a1 * std::cos(azimuth) + a2 * std::cos(2.0 * azimuth);
+}
+
+}  // namespace
+
+double RegionalLength(const Hairstyle& style, double azimuth, double polar_angle) {
+  if (!style.regional_length) return style.length;
+  const double around = AzimuthLength(style, azimuth);
+  if (!(style.length_crown > 0.0)) return around;
+  const double w = std::clamp(polar_angle / style.crown_polar_angle, 0.0, 1.0);
+  return style.length_crown + (around - style.length_crown) * w;
 }
 
 bool Hairstyle::IsValid(std::string* why) const {
@@ -78,9 +89,16 @@ bool Hairstyle::IsValid(std::string* why) const {
                              ": expected a finite number in (0, 10] (m)");
       }
     }
+    if (length_crown != 0.0 && !(std::isfinite(length_crown) && length_crown > 0.0 &&
+                                 length_crown <= 10.0)) {
+      return Fail(why, "hair.length.crown: expected a finite number in (0, 10] (m)");
+    }
+    if (!(crown_polar_angle > 0.0 && crown_polar_angle < std::numbers::pi)) {
+      return Fail(why, "scalp.hairline_front: expected an angle in (0, pi) (rad)");
+    }
     // The cosine curve may dip below its values at 0, pi/2, pi: checked on a fine grid.
     for (int k = 0; k <= 720; ++k) {
-      if (!(RegionalLength(*this, std::numbers::pi * k / 720.0) > 0.0)) {
+      if (!(AzimuthLength(*this, std::numbers::pi * k / 720.0) > 0.0)) {
         return Fail(why, "hair.length: the regional length curve through front, side and back "
                          "falls to 0 or below between them; bring the three values closer");
       }
@@ -297,7 +315,7 @@ bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string
     m.root_position = root.position;
     m.root_frame = root.frame;
     m.gravity = style.gravity;
-    const double length = RegionalLength(style, root.head.azimuth) * p.length_factor;
+    const double length = RegionalLength(style, root.head.azimuth, root.head.polar_angle) * p.length_factor;
     m.segment_lengths = UniformSegments(length, style.segments);
     const double ratio =
         style.grading > 0.0 ? style.grading : RecommendedGradingRatio(m.GravityParameter());

@@ -50,6 +50,8 @@ constexpr NumberRule kCurlRadiusRule{"a finite helix radius in [1e-4, 10] (m)",
                                      [](double x) { return x >= 1e-4 && x <= 10.0; }};
 constexpr NumberRule kHairPitchRule{"a finite helix pitch in [0, 10] (m)",
                                     [](double x) { return x >= 0.0 && x <= 10.0; }};
+constexpr NumberRule kCurlSpreadRule{"a finite relative standard deviation in [0, 1]",
+                                     [](double x) { return x >= 0.0 && x <= 1.0; }};
 constexpr NumberRule kGradingRule{"a finite number >= 1 (last/first segment length) or \"auto\"",
                                   [](double x) { return x >= 1.0; }};
 constexpr NumberRule kPackingRule{"a finite number in (0, 0.69]",
@@ -136,6 +138,7 @@ bool ParseScalp(Reader& reader, const json& document, const Body& body, Hairstyl
   }
   std::string why;
   if (!IsValid(sphere, &why)) return reader.Fail("scalp", why);
+  style->crown_polar_angle = sphere.hairline_front;  // where hair.length.crown has blended out
   if (mesh_name.empty()) {
     style->scalp = sphere;
     return true;
@@ -263,35 +266,39 @@ bool ParseComb(Reader& reader, const json& document, Hairstyle* style) {
   return true;
 }
 
-// hair.ellipticity, hair.curl_radius and hair.curl_pitch over the hair type's means (the
-// groomer's section and curl): each keeps the type's relative spread between strands (the
-// excess ellipticity's, the radius's), and a radius without a pitch keeps the type's helix angle
-// (the pitch scales with the radius). A straight type has no helix to resize.
+// hair.ellipticity, hair.curl_radius, hair.curl_pitch and hair.curl_spread over the hair type's
+// means (the groomer's section and curl): each keeps the type's relative spread between strands
+// (the excess ellipticity's, the radius's) unless curl_spread sets the radius's, and a radius
+// without a pitch keeps the type's helix angle (the pitch scales with the radius). A straight
+// type has no helix to resize.
 bool ParseHairOverrides(Reader& reader, const json& hair, HairType* type) {
   const std::string path = "hair";
   double ellipticity = type->ellipticity;
-  double radius = type->curl_radius, pitch = -1.0;
+  double radius = type->curl_radius, pitch = -1.0, spread = -1.0;
   if (!reader.ReadNumber(hair, path, "ellipticity", kEllipticityRule, false, &ellipticity) ||
       !reader.ReadNumber(hair, path, "curl_radius", kCurlRadiusRule, false, &radius) ||
-      !reader.ReadNumber(hair, path, "curl_pitch", kHairPitchRule, false, &pitch)) {
+      !reader.ReadNumber(hair, path, "curl_pitch", kHairPitchRule, false, &pitch) ||
+      !reader.ReadNumber(hair, path, "curl_spread", kCurlSpreadRule, false, &spread)) {
     return false;
   }
   const double excess = type->ellipticity - 1.0;
   type->ellipticity_std = excess > 0.0 ? type->ellipticity_std * (ellipticity - 1.0) / excess : 0.0;
   type->ellipticity = ellipticity;
-  const bool resized = hair.contains("curl_radius"), pitched = hair.contains("curl_pitch");
-  if ((resized || pitched) && type->IsStraight()) {
-    return reader.Fail(Member(path, resized ? "curl_radius" : "curl_pitch"),
-                       "the curl type \"" + type->curl +
-                           "\" has no helix: choose \"wavy\", \"curly\" or \"kinky\"");
+  for (const char* key : {"curl_radius", "curl_pitch", "curl_spread"}) {
+    if (hair.contains(key) && type->IsStraight()) {
+      return reader.Fail(Member(path, key),
+                         "the curl type \"" + type->curl +
+                             "\" has no helix: choose \"wavy\", \"curly\" or \"kinky\"");
+    }
   }
-  if (resized) {
+  if (hair.contains("curl_radius")) {
     const double scale = radius / type->curl_radius;
     type->curl_radius_std *= scale;
     type->curl_pitch *= scale;
     type->curl_radius = radius;
   }
-  if (pitched) type->curl_pitch = pitch;
+  if (hair.contains("curl_pitch")) type->curl_pitch = pitch;
+  if (hair.contains("curl_spread")) type->curl_radius_std = spread * type->curl_radius;
   return true;
 }
 
@@ -302,7 +309,7 @@ bool ParseHair(Reader& reader, const json& document, Hairstyle* style) {
   if (hair) {
     const std::string path = "hair";
     if (!reader.CheckFields(*hair, path, {"origin", "curl", "length", "seed", "ellipticity",
-                                          "curl_radius", "curl_pitch"}) ||
+                                          "curl_radius", "curl_pitch", "curl_spread"}) ||
         !ReadSeed(reader, *hair, path, "seed", &style->seed)) {
       return false;
     }
@@ -311,10 +318,11 @@ bool ParseHair(Reader& reader, const json& document, Hairstyle* style) {
     if (length != hair->end() && length->is_object()) {
       const std::string p = "hair.length";
       style->regional_length = true;
-      if (!reader.CheckFields(*length, p, {"front", "side", "back"}) ||
+      if (!reader.CheckFields(*length, p, {"front", "side", "back", "crown"}) ||
           !reader.ReadNumber(*length, p, "front", kPositiveLength, true, &style->length_front) ||
           !reader.ReadNumber(*length, p, "side", kPositiveLength, true, &style->length_side) ||
-          !reader.ReadNumber(*length, p, "back", kPositiveLength, true, &style->length_back)) {
+          !reader.ReadNumber(*length, p, "back", kPositiveLength, true, &style->length_back) ||
+          !reader.ReadNumber(*length, p, "crown", kPositiveLength, false, &style->length_crown)) {
         return false;
       }
       // `length` (the reference of other defaults) becomes the mean of the three.
