@@ -723,7 +723,8 @@ void Panel(App* app) {
     ImGui::EndDisabled();
     FieldInt(app, "hair seed", "hair.seed", 0, 100, 1);
     // The section and the natural curl in the groomer's terms (hair.ellipticity,
-    // hair.curl_radius, hair.curl_pitch), shown at the hair type's means until set.
+    // hair.curl_radius, hair.curl_pitch, hair.curl_spread), shown at the hair type's values
+    // until set.
     if (const auto hair = s.Hair()) {
       const HairType& type = hair->styled.style.hair_type;
       FieldSlider(app, "a/b", "hair.ellipticity", 1.0f, 3.0f,
@@ -733,6 +734,9 @@ void Panel(App* app) {
                   type.IsStraight() ? 0.0f : static_cast<float>(type.curl_radius), "%.4f");
       FieldSlider(app, "natural pitch (m)", "hair.curl_pitch", 0.0f, 0.2f,
                   type.IsStraight() ? 0.0f : static_cast<float>(type.curl_pitch), "%.4f");
+      FieldSlider(app, "curl spread", "hair.curl_spread", 0.0f, 1.0f,
+                  type.IsStraight() ? 0.0f
+                                    : static_cast<float>(type.curl_radius_std / type.curl_radius));
       ImGui::EndDisabled();
     }
   }

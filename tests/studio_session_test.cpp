@@ -481,6 +481,7 @@ TEST(StudioFields, SectionCurlWispSizeAndCombAreFields) {
   const double radius_before = session.Hair()->styled.style.hair_type.curl_radius;
   ASSERT_TRUE(session.SetParameter("hair.ellipticity", 1.6, &error)) << error;
   ASSERT_TRUE(session.SetParameter("hair.curl_radius", 2.0 * radius_before, &error)) << error;
+  ASSERT_TRUE(session.SetParameter("hair.curl_spread", 0.2, &error)) << error;
   ASSERT_TRUE(session.SetParameter("wisps.radius", 0.004, &error)) << error;
   ASSERT_TRUE(session.SetParameter("comb.face_sweep", 1.0, &error)) << error;
   ASSERT_TRUE(session.SetParameter("comb.direction", ojson::array({0.0, -0.3, -1.0}), &error))
@@ -489,6 +490,7 @@ TEST(StudioFields, SectionCurlWispSizeAndCombAreFields) {
   const StyledHair& hair = session.Hair()->styled;
   EXPECT_EQ(hair.style.hair_type.ellipticity, 1.6);
   EXPECT_EQ(hair.style.hair_type.curl_radius, 2.0 * radius_before);
+  EXPECT_NEAR(hair.style.hair_type.curl_radius_std, 0.2 * 2.0 * radius_before, 1e-15);
   EXPECT_EQ(hair.style.wisps.wisp_radius, 0.004);
   for (const double r : hair.masters.wisp_radii) EXPECT_EQ(r, 0.004);
   EXPECT_FALSE(session.SetParameter("hair.ellipticity", 0.5, &error));
