@@ -315,7 +315,8 @@ bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string
     m.root_position = root.position;
     m.root_frame = root.frame;
     m.gravity = style.gravity;
-    const double length = RegionalLength(style, root.head.azimuth, root.head.polar_angle) * p.length_factor;
+    const double length =
+        RegionalLength(style, root.head.azimuth, root.head.polar_angle) * p.length_factor;
     m.segment_lengths = UniformSegments(length, style.segments);
     const double ratio =
         style.grading > 0.0 ? style.grading : RecommendedGradingRatio(m.GravityParameter());
