@@ -30,17 +30,22 @@ class DuplicateFinder {
         if (depth_ > 0) --depth_;
         break;
       case json::parse_event_t::key:
-        if (depth_ > 0 && parsed.is_string()) {
-          Frame& top = stack_[depth_ - 1];
-          top.key = parsed.get_ref<const std::string&>();
-          if (!top.Insert(top.key) && duplicate_.empty()) duplicate_ = Path();
-        }
+        if (parsed.is_string()) Key(parsed.get_ref<const std::string&>());
         break;
       case json::parse_event_t::value:
         BeginElement();
         break;
     }
     return true;  // keep every value
+  }
+
+  // A member's key (the key event, without wrapping the name in a json value: that would cost
+  // a heap string per key, a tenth of the parse of a scene).
+  void Key(const std::string& name) {
+    if (depth_ == 0) return;
+    Frame& top = stack_[depth_ - 1];
+    top.key = name;
+    if (!top.Insert(top.key) && duplicate_.empty()) duplicate_ = Path();
   }
 
   // Empty when there is no duplicate.
@@ -308,7 +313,7 @@ class CheckedDomBuilder {
     return dom_.start_object(size);
   }
   bool key(json::string_t& name) {
-    finder_.OnEvent(json::parse_event_t::key, json(name));
+    finder_.Key(name);
     return dom_.key(name);
   }
   bool end_object() {
