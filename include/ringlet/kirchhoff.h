@@ -1,7 +1,10 @@
 // Kirchhoff's balance of a discretized strand: the equilibrium certificate of any solution.
 #pragma once
 
+#include <vector>
+
 #include "ringlet/math.h"
+#include "ringlet/strand_geometry.h"
 #include "ringlet/strand_model.h"
 
 namespace ringlet {
@@ -30,8 +33,16 @@ double EquilibriumResidual(const StrandModel& model, const VecX& curvatures,
 /// exact equilibrium of the discrete energy b equals the energy gradient, which is zero. Size 3n.
 VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures);
 
+/// The same from the strand's geometry and segment first moments as ComputeGeometry(model,
+/// curvatures, &segment_moments) returns them (strand_geometry.h), for callers that need the
+/// geometry too (MakeStrandResult): the helix is then evaluated once per segment, not twice.
+VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures,
+                        const StrandGeometry& geometry, const std::vector<Vec3>& segment_moments);
+
 /// EquilibriumResidual of KirchhoffImbalance: the dimensionless certificate written as
 /// `kirchhoff_residual` in result files and checked by `ringlet solve --check`.
 double KirchhoffResidual(const StrandModel& model, const VecX& curvatures);
+double KirchhoffResidual(const StrandModel& model, const VecX& curvatures,
+                         const StrandGeometry& geometry, const std::vector<Vec3>& segment_moments);
 
 }  // namespace ringlet

@@ -18,6 +18,13 @@ struct StrandGeometry {
 /// (HelixSegment). curvatures has size 3n (kappa1, kappa2, tau per segment, 1/m).
 StrandGeometry ComputeGeometry(const StrandModel& model, const VecX& curvatures);
 
+/// The same, also keeping each segment's first moment c_i = int_0^l (l - u) exp(u W) e3 du (m^2,
+/// segment i's start material frame; helix.h), so that int_segment r ds = l r_i + Q_i c_i needs
+/// no second evaluation of the helix (the Kirchhoff certificate uses it). segment_moments is
+/// resized to n.
+StrandGeometry ComputeGeometry(const StrandModel& model, const VecX& curvatures,
+                               std::vector<Vec3>* segment_moments);
+
 /// The centreline sampled with k >= 1 points per segment (equal arc-length steps inside each
 /// segment, exact on the helix), root to tip: n k + 1 points (m).
 std::vector<Vec3> SampleCentreline(const StrandModel& model, const VecX& curvatures,

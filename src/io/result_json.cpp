@@ -6,11 +6,15 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "io/json_writer.h"
 #include "ringlet/kirchhoff.h"
@@ -136,9 +140,20 @@ class ResultWriter {
       Raw("\n      ]");
     }
     Raw(",\n      \"segment_lengths\": [");
+    // Uniform segments repeat one length: its text is copied, not formatted again.
+    size_t previous_begin = 0, previous_size = 0;
     for (size_t i = 0; i < r.segment_lengths.size(); ++i) {
       if (i > 0) Raw(", ");
-      Number(r.segment_lengths[i]);
+      const size_t begin = out_->size();
+      if (i > 0 && std::bit_cast<uint64_t>(r.segment_lengths[i]) ==
+                       std::bit_cast<uint64_t>(r.segment_lengths[i - 1])) {
+        out_->reserve(out_->size() + previous_size);  // no reallocation under the copy
+        out_->append(out_->data() + previous_begin, previous_size);
+      } else {
+        Number(r.segment_lengths[i]);
+      }
+      previous_begin = begin;
+      previous_size = out_->size() - begin;
     }
     Raw("]");
     if (r.rest_curvatures.size() >= 3) {
@@ -228,14 +243,21 @@ StrandResult MakeStrandResult(const StrandModel& model, const StrandSolution& so
   assert(points_per_segment >= 1);
   assert(solution.curvatures.size() == 3 * model.NumSegments());
   StrandResult result;
-  result.points = SampleCentreline(model, solution.curvatures, points_per_segment);
+  // One reconstruction serves the points (at one point per segment they are its segment ends)
+  // and the certificate.
+  std::vector<Vec3> segment_moments;
+  StrandGeometry geometry = ComputeGeometry(model, solution.curvatures, &segment_moments);
   result.curvatures = solution.curvatures;
   result.segment_lengths = model.segment_lengths;
   result.rest_curvatures = model.rest_curvatures;
   result.summary = solution.summary;
-  result.kirchhoff_residual = result.curvatures.allFinite()
-                                  ? KirchhoffResidual(model, result.curvatures)
-                                  : std::numeric_limits<double>::quiet_NaN();
+  result.kirchhoff_residual =
+      result.curvatures.allFinite()
+          ? KirchhoffResidual(model, result.curvatures, geometry, segment_moments)
+          : std::numeric_limits<double>::quiet_NaN();
+  result.points = points_per_segment == 1
+                      ? std::move(geometry.points)
+                      : SampleCentreline(model, solution.curvatures, points_per_segment);
 
   // The non-finite rule: a result with NaN or infinity anywhere is not an equilibrium, whatever
   // the minimizer said, and its file must say so (those numbers are written as null).

@@ -2,6 +2,7 @@
 #include "ringlet/kirchhoff.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -55,8 +56,15 @@ double EquilibriumResidual(const StrandModel& model, const VecX& curvatures,
 }
 
 VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
+  std::vector<Vec3> segment_moments;
+  const StrandGeometry g = ComputeGeometry(model, curvatures, &segment_moments);
+  return KirchhoffImbalance(model, curvatures, g, segment_moments);
+}
+
+VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures,
+                        const StrandGeometry& g, const std::vector<Vec3>& whole_moment) {
   const int n = model.NumSegments();
-  const StrandGeometry g = ComputeGeometry(model, curvatures);
+  assert(static_cast<int>(g.points.size()) == n + 1 && static_cast<int>(whole_moment.size()) == n);
   const Vec3 f = model.WeightPerLength();
   const Vec3 k = model.Stiffness();
   const double length = model.Length();
@@ -64,13 +72,11 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
   // t_end[i] = T(s_(i+1)) = int from the end of segment i to the tip of r ds (closed form per
   // segment: int_segment r = l r_i + Q_i c), accumulated from the tip.
   // whole_moment[i] = C(l_i), segment i's first moment in its start frame (helix.h).
-  std::vector<Vec3> t_end(n), whole_moment(n);
+  std::vector<Vec3> t_end(n);
   std::vector<double> s_start(n);
   Vec3 acc = Vec3::Zero();
   for (int i = n - 1; i >= 0; --i) {
     t_end[i] = acc;
-    whole_moment[i] =
-        EvaluateHelixSegment(curvatures.segment<3>(3 * i), model.segment_lengths[i]).moment;
     acc += model.segment_lengths[i] * g.points[i] + g.frames[i] * whole_moment[i];
   }
   double s = 0.0;
@@ -101,7 +107,6 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
 
   VecX imbalance(3 * n);
   const Vec3 e3(0.0, 0.0, 1.0);
-  std::vector<Vec3> local_force, local_torque;  // the contacts of segment i, in its start frame
   for (int i = 0; i < n; ++i) {
     const Vec3 omega = curvatures.segment<3>(3 * i);
     const double l = model.segment_lengths[i];
@@ -117,48 +122,72 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
     const Vec3 force_beyond = to_local * force_after[i + 1];
     const Vec3 torque_beyond = to_local * torque_after[i + 1];
     const int c_begin = first_contact[i], c_end = first_contact[i + 1];
-    local_force.clear();
-    local_torque.clear();
-    for (int c = c_begin; c < c_end; ++c) {
-      local_force.push_back(to_local * contacts[c].force);
-      local_torque.push_back(to_local * contacts[c].position.cross(contacts[c].force));
-    }
     const Vec3 a1 = omega.cross(e3), a2 = omega.cross(a1);
     const double omega_norm = omega.norm();
-    // The material components of the moment of the load beyond r(u) about r(u):
-    // R(u)^T F_i^T M(u), R(u)^T v = v - u G1 Omega x v + u^2 G2 Omega x (Omega x v).
-    auto moment_below = [&](double u) {
-      const HelixFunctions h = EvaluateHelixFunctions(u * omega_norm);
-      const double u2 = u * u, u3 = u2 * u;
-      const Vec3 chord = u * e3 + (u2 * h.g[2]) * a1 + (u3 * h.g[3]) * a2;
-      const Vec3 first_moment = (0.5 * u2) * e3 + (u3 * h.g[3]) * a1 + (u3 * u * h.g[4]) * a2;
-      const Vec3 r = root + chord;
-      const Vec3 t = beyond + (l - u) * root + (whole_moment[i] - first_moment);
-      Vec3 force = force_beyond, torque = torque_beyond;
-      for (int c = c_begin; c < c_end; ++c) {
-        if (contacts[c].u > u) {
-          force += local_force[static_cast<size_t>(c - c_begin)];
-          torque += local_torque[static_cast<size_t>(c - c_begin)];
-        }
-      }
-      const Vec3 moment = (t - (remaining - u) * r).cross(weight) + torque - r.cross(force);
-      const Vec3 w_moment = omega.cross(moment);
-      return Vec3(moment - (u * h.g[1]) * w_moment + (u2 * h.g[2]) * omega.cross(w_moment));
-    };
+    // The moment about r(u) of the load beyond it (weight w per length, contact force F and
+    // torque T of the samples beyond u):
+    //   M(u) = (int_u^l r + T(s_(i+1)) - (L - s_i - u) r(u)) x w + T - r(u) x F
+    //        = K - e3 x (s0 w + u F) - a1 x (s1 w + u^2 G2 F) - a2 x (s2 w + u^3 G3 F),
+    // K = (T(s_(i+1)) + (l - L + s_i) r_i + C(l)) x w + T - r_i x F, and S(u) = C(u) +
+    // (L - s_i - u) c(u) = s0 e3 + s1 a1 + s2 a2. So M(u) = sum_j s_j(u) V_j over seven fixed
+    // vectors V_j (F and T change only at the contact samples, which are piece boundaries), and
+    // its material components R(u)^T M = M - u G1 Omega x M + u^2 G2 Omega x (Omega x M)
+    // integrate to I_A - Omega x I_B + Omega x (Omega x I_C), I_X = sum_j (int x_j s_j) V_j
+    // with x = 1, u G1, u^2 G2: the quadrature sums scalars only.
+    const Vec3 gravity_constant = (beyond + (l - remaining) * root + whole_moment[i]).cross(weight);
+    const Vec3 e3_w = e3.cross(weight), a1_w = a1.cross(weight), a2_w = a2.cross(weight);
     const double turn_pieces = std::ceil(omega_norm * l / kMaxTurnPerInterval);
     int pieces = turn_pieces >= 1.0 ? static_cast<int>(std::min(turn_pieces, kMaxPiecesPerSegment))
                                     : 1;  // NaN and 0 also give one piece
     // With contact, the moment jumps at the samples (j + 1) l / m: make them piece boundaries.
     if (!contacts.empty()) pieces = m * ((pieces + m - 1) / m);
     const double h = l / pieces;
-    Vec3 integral = Vec3::Zero();
+    Vec3 sum_a = Vec3::Zero(), sum_b = Vec3::Zero(), sum_c = Vec3::Zero();
     for (int p = 0; p < pieces; ++p) {
       const double mid = (p + 0.5) * h;
-      for (int q = 0; q < 3; ++q) {
-        const double d = 0.5 * h * kNodes[q];
-        integral += (0.5 * h * kWeights[q]) * (moment_below(mid - d) + moment_below(mid + d));
+      // The samples beyond this piece (their u is a piece boundary, so comparing with the
+      // midpoint decides for every node of the piece).
+      Vec3 force = force_beyond, torque = torque_beyond;
+      for (int c = c_begin; c < c_end; ++c) {
+        if (contacts[c].u > mid) {
+          force += to_local * contacts[c].force;
+          torque += to_local * contacts[c].position.cross(contacts[c].force);
+        }
+      }
+      // The seven vectors V_j (an eighth column of zeros pads them for vector instructions).
+      const Vec3 terms[7] = {gravity_constant + torque - root.cross(force),
+                             e3_w,
+                             a1_w,
+                             a2_w,
+                             e3.cross(force),
+                             a1.cross(force),
+                             a2.cross(force)};
+      // sa_j, sb_j, sc_j: the quadrature sums of s_j, u G1 s_j and u^2 G2 s_j (s_0 = 1). Plain
+      // scalars: an array filled per node and read as vectors stalled on store forwarding.
+      double sa[7] = {}, sb[7] = {}, sc[7] = {};
+      for (int q = 0; q < 6; ++q) {
+        const double u = q < 3 ? mid - 0.5 * h * kNodes[q] : mid + 0.5 * h * kNodes[q - 3];
+        const double wa = 0.5 * h * kWeights[q % 3];
+        const HelixFunctions hf = EvaluateHelixFunctions(u * omega_norm);
+        const double u2 = u * u, u3 = u2 * u;
+        const double p2 = u2 * hf.g[2], p3 = u3 * hf.g[3], p4 = u3 * u * hf.g[4];
+        const double rest = remaining - u;
+        const double wb = wa * u * hf.g[1], wc = wa * p2;
+        const double coefficient[7] = {1.0, -u * (remaining - 0.5 * u), -(p3 + rest * p2),
+                             -(p4 + rest * p3), -u, -p2, -p3};
+        for (int j = 0; j < 7; ++j) {
+          sa[j] += wa * coefficient[j];
+          sb[j] += wb * coefficient[j];
+          sc[j] += wc * coefficient[j];
+        }
+      }
+      for (int j = 0; j < 7; ++j) {
+        sum_a += sa[j] * terms[j];
+        sum_b += sb[j] * terms[j];
+        sum_c += sc[j] * terms[j];
       }
     }
+    const Vec3 integral = sum_a - omega.cross(sum_b) + omega.cross(omega.cross(sum_c));
     const Vec3 internal = l * k.cwiseProduct(omega - model.NaturalCurvature(i));
     imbalance.segment<3>(3 * i) = internal - integral;
   }
@@ -167,6 +196,12 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures) {
 
 double KirchhoffResidual(const StrandModel& model, const VecX& curvatures) {
   return EquilibriumResidual(model, curvatures, KirchhoffImbalance(model, curvatures));
+}
+
+double KirchhoffResidual(const StrandModel& model, const VecX& curvatures,
+                         const StrandGeometry& geometry, const std::vector<Vec3>& segment_moments) {
+  return EquilibriumResidual(model, curvatures,
+                             KirchhoffImbalance(model, curvatures, geometry, segment_moments));
 }
 
 }  // namespace ringlet

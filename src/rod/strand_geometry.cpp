@@ -7,20 +7,28 @@
 
 namespace ringlet {
 
-StrandGeometry ComputeGeometry(const StrandModel& model, const VecX& curvatures) {
+StrandGeometry ComputeGeometry(const StrandModel& model, const VecX& curvatures,
+                               std::vector<Vec3>* segment_moments) {
   const int n = model.NumSegments();
   assert(curvatures.size() == 3 * n);
   StrandGeometry g;
   g.points.resize(n + 1);
   g.frames.resize(n + 1);
+  if (segment_moments) segment_moments->resize(n);
   g.points[0] = model.root_position;
   g.frames[0] = model.root_frame;
   for (int i = 0; i < n; ++i) {
-    const HelixSegment s = EvaluateHelixSegment(curvatures.segment<3>(3 * i), model.segment_lengths[i]);
+    const HelixSegment s =
+        EvaluateHelixSegment(curvatures.segment<3>(3 * i), model.segment_lengths[i]);
     g.points[i + 1] = g.points[i] + g.frames[i] * s.chord;
     g.frames[i + 1] = g.frames[i] * s.rotation;
+    if (segment_moments) (*segment_moments)[i] = s.moment;
   }
   return g;
+}
+
+StrandGeometry ComputeGeometry(const StrandModel& model, const VecX& curvatures) {
+  return ComputeGeometry(model, curvatures, nullptr);
 }
 
 std::vector<Vec3> SampleCentreline(const StrandModel& model, const VecX& curvatures,
