@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libtinyobjloader-dev libtbb-dev libembree-dev libpng-dev
+  libtinyobjloader-dev libtbb-dev libembree-dev libpng-dev libsimdjson-dev
   python3-numpy python3-matplotlib python3-skimage
   pybind11-dev python3-dev python3-pytest
   libglfw3-dev libimgui-dev libgl-dev libepoxy-dev

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <new>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -849,6 +850,83 @@ TEST(JsonReader, NestingIsLimitedWhileParsing) {
   EXPECT_FALSE(internal::ParseJsonText(Nested(70000), &document, &error));
   EXPECT_NE(error.find("nested deeper than 64 levels"), std::string::npos) << error;
   EXPECT_LT(error.size(), 300u) << error;
+}
+
+// ParseJsonText parses with simdjson and falls back to nlohmann's parser when simdjson refuses
+// (json_reader.cpp, FastParse). The reference is nlohmann's own parser on the same text: the two
+// must accept the same documents (apart from ringlet's own refusals: duplicate members and
+// nesting beyond kMaxJsonDepth) and give the same values, integers and floats told apart (dump()
+// writes 1 and 1.0 differently). Corpus: every JSON file of the examples and the test data,
+// edge cases where simdjson and nlohmann differ (byte-order mark, integers beyond 64 bits, -0,
+// out-of-range numbers, surrogates, invalid UTF-8), and 3,000 byte-level mutants of them.
+TEST(JsonReader, SimdjsonAndNlohmannAgree) {
+  std::vector<std::string> corpus = {
+      "\xef\xbb\xbf{\"a\": [1, 2.5]}",  // byte-order mark: simdjson refuses, nlohmann skips it
+      "18446744073709551616", "-9223372036854775809", "[123456789012345678901234567890]",
+      "18446744073709551615", "9223372036854775808", "-9223372036854775808", "[-0, 0, -0.0]",
+      "[1E+2, 1e5, 0.1, -1.5e-5, 1e-400, 4.9e-324, 2.2250738585072011e-308]",
+      "[1.7976931348623157e308]", "[1e309]", "{\"a\": -1e999}", "[01]", "[1.]", "[.5]",
+      "\"\\ud800\"", "\"\\ud83d\\ude00 \\u00e9 \\u0000\"", "\"\xc3\xa9\"", "\"\xff\"",
+      "\"\xed\xa0\x80\"", "\"\xc0\xaf\"", "\"\x01\"", "\"\x7f\"", "", " ", "{} x", "[1,]",
+      "nul", "true ", "\t\n\r {}", "\f{}", std::string("[1]\0", 4), "{\"a\": 1, \"a\": 2}",
+      "[{\"b\": {\"c\": null, \"d\": false}}, [], {}, \"\"]",
+      Nested(internal::kMaxJsonDepth - 1), Nested(internal::kMaxJsonDepth), Nested(1100)};
+  const size_t handmade = corpus.size();
+  for (const char* dir : {RINGLET_EXAMPLES_DIR, RINGLET_TEST_DATA_DIR}) {
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(dir)) {
+      if (entry.path().extension() != ".json") continue;
+      std::ifstream in(entry.path(), std::ios::binary);
+      std::stringstream text;
+      text << in.rdbuf();
+      corpus.push_back(text.str());
+    }
+  }
+  ASSERT_GT(corpus.size(), handmade + 20);  // the files were found
+  std::mt19937 rng(20261202);
+  const size_t files = corpus.size();
+  for (int i = 0; i < 3000; ++i) {
+    std::string text = corpus[rng() % files];
+    if (text.empty()) continue;
+    const int edits = 1 + static_cast<int>(rng() % 3);
+    for (int e = 0; e < edits; ++e) {
+      const size_t at = rng() % text.size();
+      static constexpr char kBytes[] = "{}[],:\"\\-+.eE0123456789 \ntrufalsn\x80\xff";
+      text[at] = kBytes[rng() % (sizeof(kBytes) - 1)];
+    }
+    corpus.push_back(text);
+  }
+
+  int both_accept = 0, both_refuse = 0, ringlet_refuses = 0;
+  for (size_t i = 0; i < corpus.size(); ++i) {
+    const std::string& text = corpus[i];
+    json reference;
+    bool reference_ok = true;
+    try {
+      reference = json::parse(text);
+    } catch (const json::exception&) {
+      reference_ok = false;
+    }
+    json document;
+    std::string error;
+    const bool ok = internal::ParseJsonText(text, &document, &error);
+    if (!reference_ok) {
+      EXPECT_FALSE(ok) << "case " << i << " accepted, nlohmann refuses: " << text.substr(0, 80);
+      ++both_refuse;
+    } else if (!ok) {
+      // Only ringlet's own two rules may refuse what nlohmann accepts.
+      EXPECT_TRUE(error.find("duplicate field") != std::string::npos ||
+                  error.find("nested deeper than") != std::string::npos)
+          << "case " << i << ": " << error;
+      ++ringlet_refuses;
+    } else {
+      EXPECT_EQ(document.dump(), reference.dump()) << "case " << i;
+      ++both_accept;
+    }
+  }
+  // Anti-vacuity: every class was exercised.
+  EXPECT_GT(both_accept, 40);
+  EXPECT_GT(both_refuse, 500);
+  EXPECT_GT(ringlet_refuses, 1);
 }
 
 // A bad value deep under long keys: the path in the message keeps its start and its end (the
