@@ -9,29 +9,34 @@
 
 namespace ringlet::internal {
 
-void AppendJsonNumber(double x, std::string* out) {
+char* WriteJsonNumber(double x, char* out) {
   if (!std::isfinite(x)) {
-    out->append("null");
-    return;
+    std::memcpy(out, "null", 4);
+    return out + 4;
   }
   if (x == 0.0) {  // the commonest value of all (roots at the origin, no contact)
-    out->append(std::signbit(x) ? "-0.0" : "0.0");
-    return;
+    const char* zero = std::signbit(x) ? "-0.0" : "0.0";
+    const size_t size = std::signbit(x) ? 4 : 3;
+    std::memcpy(out, zero, size);
+    return out + size;
   }
-  // 24 characters hold the longest shortest form ("-2.2250738585072014e-308"); 32 leave room.
-  char buffer[32];
-  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer) - 2, x);
-  char* end = r.ptr;
+  // 24 characters hold the longest shortest form ("-2.2250738585072014e-308"); the last two of
+  // kMaxJsonNumberChars are kept for ".0".
+  char* end = std::to_chars(out, out + kMaxJsonNumberChars - 2, x).ptr;
   // Only an integral value can come out with neither '.' nor 'e' (a fraction needs one or the
   // other), so the text is searched only then: one rounding instead of two library calls per
   // number (memchr was 2 % of `ringlet solve`'s samples in perf, docs/benchmarks.md).
-  if (x == std::trunc(x) &&
-      std::memchr(buffer, '.', static_cast<size_t>(end - buffer)) == nullptr &&
-      std::memchr(buffer, 'e', static_cast<size_t>(end - buffer)) == nullptr) {
+  if (x == std::trunc(x) && std::memchr(out, '.', static_cast<size_t>(end - out)) == nullptr &&
+      std::memchr(out, 'e', static_cast<size_t>(end - out)) == nullptr) {
     *end++ = '.';
     *end++ = '0';
   }
-  out->append(buffer, end);
+  return end;
+}
+
+void AppendJsonNumber(double x, std::string* out) {
+  char buffer[kMaxJsonNumberChars];
+  out->append(buffer, WriteJsonNumber(x, buffer));
 }
 
 void AppendJsonInteger(long long x, std::string* out) {

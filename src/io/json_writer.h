@@ -5,6 +5,7 @@
 // overhead"). These append one value to a string; the caller writes the fixed layout around them.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -16,6 +17,10 @@ namespace ringlet::internal {
 // integers apart (Python, nlohmann), as nlohmann's dump() writes it. NaN and infinities, which
 // JSON has no literal for, are written as null.
 void AppendJsonNumber(double x, std::string* out);
+
+// The same text written at out, which has room for kMaxJsonNumberChars; returns its end.
+constexpr size_t kMaxJsonNumberChars = 32;
+char* WriteJsonNumber(double x, char* out);
 
 // Appends x as a JSON integer.
 void AppendJsonInteger(long long x, std::string* out);

@@ -10,6 +10,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <string_view>
@@ -75,19 +76,28 @@ double MaxPenetration(const std::vector<StrandResult>& strands) {
 class ResultWriter {
  public:
   static constexpr size_t kPieceBytes = size_t{1} << 20;
+  // The text goes at the end of *out, which Document leaves holding exactly the text (without a
+  // sink) or empty (with one).
   explicit ResultWriter(std::string* out, const FileSink* sink = nullptr)
-      : out_(out), sink_(sink) {}
+      : out_(out), sink_(sink), used_(out->size()) {
+    out_->resize(std::max(out_->capacity(), used_ + kMinRoom));
+  }
 
   void Document(const std::vector<StrandResult>& strands, double seconds) {
     Raw("{\n  \"strands\": [");
     for (size_t i = 0; i < strands.size(); ++i) {
-      Raw(i == 0 ? "\n    {\n" : ",\n    {\n");
+      if (i > 0) Raw(",");
+      Raw("\n    {\n");
       Strand(strands[i]);
       Raw("\n    }");
-      if (sink_ && out_->size() >= kPieceBytes) Flush();
-      if (!ok_) return;  // a write failed: WriteFileAtomically reports it
+      if (sink_ && used_ >= kPieceBytes) Flush();
+      if (!ok_) {  // a write failed: WriteFileAtomically reports it
+        out_->clear();
+        return;
+      }
     }
-    Raw(strands.empty() ? "]" : "\n  ]");
+    if (!strands.empty()) Raw("\n  ");
+    Raw("]");
 
     const ResultCounts counts = CountResults(strands);
     Raw(",\n  \"summary\": {\n    \"strands\": ");
@@ -103,7 +113,8 @@ class ResultWriter {
     Raw("\n  },\n  \"units\": {");
     bool first = true;
     for (const UnitEntry& unit : kUnits) {
-      Raw(first ? "\n    " : ",\n    ");
+      if (!first) Raw(",");
+      Raw("\n    ");
       first = false;
       String(unit.key);
       Raw(": ");
@@ -111,6 +122,7 @@ class ResultWriter {
     }
     Raw("\n  }\n}\n");
     if (sink_) Flush();
+    out_->resize(used_);
   }
 
  private:
@@ -123,7 +135,8 @@ class ResultWriter {
     } else {
       Raw("[");
       for (size_t i = 0; i < r.points.size(); ++i) {
-        Raw(i == 0 ? "\n        " : ",\n        ");
+        if (i > 0) Raw(",");
+        Raw("\n        ");
         Triple(r.points[i].x(), r.points[i].y(), r.points[i].z());
       }
       Raw("\n      ]");
@@ -134,7 +147,8 @@ class ResultWriter {
     } else {
       Raw("[");
       for (Eigen::Index i = 0; i + 2 < r.curvatures.size(); i += 3) {
-        Raw(i == 0 ? "\n        " : ",\n        ");
+        if (i > 0) Raw(",");
+        Raw("\n        ");
         Triple(r.curvatures(i), r.curvatures(i + 1), r.curvatures(i + 2));
       }
       Raw("\n      ]");
@@ -144,22 +158,24 @@ class ResultWriter {
     size_t previous_begin = 0, previous_size = 0;
     for (size_t i = 0; i < r.segment_lengths.size(); ++i) {
       if (i > 0) Raw(", ");
-      const size_t begin = out_->size();
+      const size_t begin = used_;
       if (i > 0 && std::bit_cast<uint64_t>(r.segment_lengths[i]) ==
                        std::bit_cast<uint64_t>(r.segment_lengths[i - 1])) {
-        out_->reserve(out_->size() + previous_size);  // no reallocation under the copy
-        out_->append(out_->data() + previous_begin, previous_size);
+        char* to = Room(previous_size);  // may move the text: the source is taken after
+        std::memcpy(to, out_->data() + previous_begin, previous_size);
+        used_ += previous_size;
       } else {
         Number(r.segment_lengths[i]);
       }
       previous_begin = begin;
-      previous_size = out_->size() - begin;
+      previous_size = used_ - begin;
     }
     Raw("]");
     if (r.rest_curvatures.size() >= 3) {
       Raw(",\n      \"rest_curvatures\": [");
       for (Eigen::Index i = 0; i + 2 < r.rest_curvatures.size(); i += 3) {
-        Raw(i == 0 ? "\n        " : ",\n        ");
+        if (i > 0) Raw(",");
+        Raw("\n        ");
         Triple(r.rest_curvatures(i), r.rest_curvatures(i + 1), r.rest_curvatures(i + 2));
       }
       Raw("\n      ]");
@@ -187,9 +203,9 @@ class ResultWriter {
     Raw(",\n      \"termination\": ");
     String(TerminationName(s.termination));
     Raw(",\n      \"stable\": ");
-    Raw(s.stable ? "true" : "false");
+    Raw(std::string_view(s.stable ? "true" : "false"));
     Raw(",\n      \"stability_checked\": ");
-    Raw(s.stability_checked ? "true" : "false");
+    Raw(std::string_view(s.stability_checked ? "true" : "false"));
     Raw(",\n      \"min_hessian_eigenvalue\": ");
     if (s.stability_checked) {
       Number(s.min_eigenvalue);
@@ -216,19 +232,48 @@ class ResultWriter {
     Raw("]");
   }
 
-  void Raw(std::string_view text) { out_->append(text); }
-  void Number(double x) { internal::AppendJsonNumber(x, out_); }
-  void Integer(long long x) { internal::AppendJsonInteger(x, out_); }
-  void String(std::string_view text) { internal::AppendJsonString(text, out_); }
+  // The text is written through a cursor: *out_'s size is the writable area, used_ the text in
+  // it (one call per number or literal instead of a std::string append each: the appends were
+  // a tenth of the command's formatting, docs/benchmarks.md, "CLI overhead").
+  static constexpr size_t kMinRoom = 4096;
+  char* Room(size_t n) {
+    if (out_->size() - used_ < n) out_->resize(std::max(2 * out_->size(), used_ + n + kMinRoom));
+    return out_->data() + used_;
+  }
+  template <size_t N>
+  void Raw(const char (&text)[N]) {  // a literal: a copy of known size
+    std::memcpy(Room(N - 1), text, N - 1);
+    used_ += N - 1;
+  }
+  void Raw(std::string_view text) {
+    std::memcpy(Room(text.size()), text.data(), text.size());
+    used_ += text.size();
+  }
+  void Number(double x) {
+    char* begin = Room(internal::kMaxJsonNumberChars);
+    used_ += static_cast<size_t>(internal::WriteJsonNumber(x, begin) - begin);
+  }
+  void Integer(long long x) {
+    scratch_.clear();
+    internal::AppendJsonInteger(x, &scratch_);
+    Raw(scratch_);
+  }
+  void String(std::string_view text) {
+    scratch_.clear();
+    internal::AppendJsonString(text, &scratch_);
+    Raw(scratch_);
+  }
 
-  // Hands the buffer to the sink; after a failed write the rest is not formatted in vain.
+  // Hands the text to the sink; after a failed write the rest is not formatted in vain.
   void Flush() {
-    if (ok_) ok_ = (*sink_)(*out_);
-    out_->clear();
+    if (ok_) ok_ = (*sink_)(std::string_view(out_->data(), used_));
+    used_ = 0;
   }
 
   std::string* out_;
   const FileSink* sink_;
+  size_t used_;           // bytes of text at the start of *out_
+  std::string scratch_;   // strings and integers before they are copied in
   bool ok_ = true;
 };
 
