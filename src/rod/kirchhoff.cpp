@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "ringlet/contact.h"
 #include "ringlet/helix.h"
@@ -154,7 +155,8 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures,
           torque += to_local * contacts[c].position.cross(contacts[c].force);
         }
       }
-      // The seven vectors V_j (an eighth column of zeros pads them for vector instructions).
+      // The seven vectors V_j; without contact forces on the strand the last three are zero and
+      // only the first four are summed.
       const Vec3 terms[7] = {gravity_constant + torque - root.cross(force),
                              e3_w,
                              a1_w,
@@ -164,27 +166,34 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures,
                              a2.cross(force)};
       // sa_j, sb_j, sc_j: the quadrature sums of s_j, u G1 s_j and u^2 G2 s_j (s_0 = 1). Plain
       // scalars: an array filled per node and read as vectors stalled on store forwarding.
-      double sa[7] = {}, sb[7] = {}, sc[7] = {};
-      for (int q = 0; q < 6; ++q) {
-        const double u = q < 3 ? mid - 0.5 * h * kNodes[q] : mid + 0.5 * h * kNodes[q - 3];
-        const double wa = 0.5 * h * kWeights[q % 3];
-        const HelixFunctions hf = EvaluateHelixFunctions(u * omega_norm);
-        const double u2 = u * u, u3 = u2 * u;
-        const double p2 = u2 * hf.g[2], p3 = u3 * hf.g[3], p4 = u3 * u * hf.g[4];
-        const double rest = remaining - u;
-        const double wb = wa * u * hf.g[1], wc = wa * p2;
-        const double coefficient[7] = {1.0, -u * (remaining - 0.5 * u), -(p3 + rest * p2),
-                             -(p4 + rest * p3), -u, -p2, -p3};
-        for (int j = 0; j < 7; ++j) {
-          sa[j] += wa * coefficient[j];
-          sb[j] += wb * coefficient[j];
-          sc[j] += wc * coefficient[j];
+      auto integrate = [&]<int kTerms>(std::integral_constant<int, kTerms>) {
+        double sa[kTerms] = {}, sb[kTerms] = {}, sc[kTerms] = {};
+        for (int q = 0; q < 6; ++q) {
+          const double u = q < 3 ? mid - 0.5 * h * kNodes[q] : mid + 0.5 * h * kNodes[q - 3];
+          const double wa = 0.5 * h * kWeights[q % 3];
+          const HelixFunctions hf = EvaluateHelixFunctions(u * omega_norm);
+          const double u2 = u * u, u3 = u2 * u;
+          const double p2 = u2 * hf.g[2], p3 = u3 * hf.g[3], p4 = u3 * u * hf.g[4];
+          const double rest = remaining - u;
+          const double wb = wa * u * hf.g[1], wc = wa * p2;
+          const double coefficient[7] = {1.0, -u * (remaining - 0.5 * u), -(p3 + rest * p2),
+                                         -(p4 + rest * p3), -u, -p2, -p3};
+          for (int j = 0; j < kTerms; ++j) {
+            sa[j] += wa * coefficient[j];
+            sb[j] += wb * coefficient[j];
+            sc[j] += wc * coefficient[j];
+          }
         }
-      }
-      for (int j = 0; j < 7; ++j) {
-        sum_a += sa[j] * terms[j];
-        sum_b += sb[j] * terms[j];
-        sum_c += sc[j] * terms[j];
+        for (int j = 0; j < kTerms; ++j) {
+          sum_a += sa[j] * terms[j];
+          sum_b += sb[j] * terms[j];
+          sum_c += sc[j] * terms[j];
+        }
+      };
+      if (contacts.empty()) {
+        integrate(std::integral_constant<int, 4>{});
+      } else {
+        integrate(std::integral_constant<int, 7>{});
       }
     }
     const Vec3 integral = sum_a - omega.cross(sum_b) + omega.cross(omega.cross(sum_c));
