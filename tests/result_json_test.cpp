@@ -151,6 +151,7 @@ TEST(JsonWriter, StringsAreEscapedLikeNlohmann) {
       "plain ascii: converged",
       "quote \" backslash \\ slash /",
       "controls \b \f \n \r \t \x01 \x1f and DEL \x7f",
+      "\"", "\\\\\"\n", "\x01first and last\x02",  // escapes at the ends and in a row
       "UTF-8: caf\xc3\xa9, \xe2\x80\x94 dash",
   };
   for (const std::string& text : texts) {

@@ -237,8 +237,11 @@ class ResultWriter {
   // a tenth of the command's formatting, docs/benchmarks.md, "CLI overhead").
   static constexpr size_t kMinRoom = 4096;
   char* Room(size_t n) {
-    if (out_->size() - used_ < n) out_->resize(std::max(2 * out_->size(), used_ + n + kMinRoom));
+    if (out_->size() - used_ < n) [[unlikely]] Grow(n);
     return out_->data() + used_;
+  }
+  [[gnu::noinline]] void Grow(size_t n) {
+    out_->resize(std::max(2 * out_->size(), used_ + n + kMinRoom));
   }
   template <size_t N>
   void Raw(const char (&text)[N]) {  // a literal: a copy of known size
