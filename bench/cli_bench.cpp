@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "io/json_reader.h"
 #include "ringlet/atomic_file.h"
 #include "ringlet/kirchhoff.h"
 #include "ringlet/result_json.h"
@@ -118,6 +119,21 @@ void BM_ParseJsonOnly(benchmark::State& state) {
   PerStrand(state, kStrands);
 }
 BENCHMARK(BM_ParseJsonOnly)->Unit(benchmark::kMillisecond);
+
+// The readers' own parse of the same text (io/json_reader.h: simdjson, replayed into the same
+// nlohmann document with the duplicate and depth checks), what BM_ParseScene spends before the
+// conversion to models.
+void BM_ParseJsonText(benchmark::State& state) {
+  const std::string text = ManyStrandsText(kStrands, false);
+  for (auto _ : state) {
+    nlohmann::json document;
+    std::string error;
+    if (!internal::ParseJsonText(text, &document, &error)) state.SkipWithError(error.c_str());
+    benchmark::DoNotOptimize(&document);
+  }
+  PerStrand(state, kStrands);
+}
+BENCHMARK(BM_ParseJsonText)->Unit(benchmark::kMillisecond);
 
 // Stage 2 is BM_LibrarySolveStrand. Stage 3: MakeStrandResult (centreline samples, the Kirchhoff
 // certificate, the non-finite rule), and its two costly parts alone.
