@@ -125,11 +125,11 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures,
     const int c_begin = first_contact[i], c_end = first_contact[i + 1];
     const Vec3 a1 = omega.cross(e3), a2 = omega.cross(a1);
     const double omega_norm = omega.norm();
-    // The moment about r(u) of the load beyond it (weight w per length, contact force F and
-    // torque T of the samples beyond u):
-    //   M(u) = (int_u^l r + T(s_(i+1)) - (L - s_i - u) r(u)) x w + T - r(u) x F
+    // The moment about r(u) of the load beyond it (weight w per length; F and N the sums of the
+    // contact forces x_k and of their moments x_k x F_k over the samples beyond u):
+    //   M(u) = (int_u^l r + T(s_(i+1)) - (L - s_i - u) r(u)) x w + N - r(u) x F
     //        = K - e3 x (s0 w + u F) - a1 x (s1 w + u^2 G2 F) - a2 x (s2 w + u^3 G3 F),
-    // K = (T(s_(i+1)) + (l - L + s_i) r_i + C(l)) x w + T - r_i x F, and S(u) = C(u) +
+    // K = (T(s_(i+1)) + (l - L + s_i) r_i + C(l)) x w + N - r_i x F, and S(u) = C(u) +
     // (L - s_i - u) c(u) = s0 e3 + s1 a1 + s2 a2. So M(u) = sum_j s_j(u) V_j over seven fixed
     // vectors V_j (F and T change only at the contact samples, which are piece boundaries), and
     // its material components R(u)^T M = M - u G1 Omega x M + u^2 G2 Omega x (Omega x M)
@@ -164,8 +164,9 @@ VecX KirchhoffImbalance(const StrandModel& model, const VecX& curvatures,
                              e3.cross(force),
                              a1.cross(force),
                              a2.cross(force)};
-      // sa_j, sb_j, sc_j: the quadrature sums of s_j, u G1 s_j and u^2 G2 s_j (s_0 = 1). Plain
-      // scalars: an array filled per node and read as vectors stalled on store forwarding.
+      // sa_j, sb_j, sc_j: the quadrature sums of s_j, u G1 s_j and u^2 G2 s_j (s_0 = 1), in
+      // plain doubles (an Eigen array filled per node and read back as packed vectors stalled
+      // on store forwarding).
       auto integrate = [&]<int kTerms>(std::integral_constant<int, kTerms>) {
         double sa[kTerms] = {}, sb[kTerms] = {}, sc[kTerms] = {};
         for (int q = 0; q < 6; ++q) {
