@@ -327,12 +327,15 @@ TEST(ResultWriter, EveryNumberFieldRoundTripsBitExactly) {
   size_t next = 0;
   const auto take = [&] { return values[next++ % values.size()]; };
   std::vector<StrandResult> results(40);
-  for (StrandResult& r : results) {
+  for (size_t k = 0; k < results.size(); ++k) {
+    StrandResult& r = results[k];
     const int n = 25;
     for (int i = 0; i <= n; ++i) r.points.push_back(Vec3(take(), take(), take()));
     r.curvatures.resize(3 * n);
     for (int i = 0; i < 3 * n; ++i) r.curvatures(i) = take();
-    for (int i = 0; i < n; ++i) r.segment_lengths.push_back(take());
+    // Every other strand has uniform segments (the writer copies a repeated length's text).
+    const double uniform = take();
+    for (int i = 0; i < n; ++i) r.segment_lengths.push_back(k % 2 ? uniform : take());
     SolveSummary& s = r.summary;
     s.energy.elastic = take();
     s.energy.gravity = take();
