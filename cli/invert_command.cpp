@@ -28,12 +28,14 @@
 #include "commands.h"
 #include "format.h"
 #include "outputs.h"
+#include "progress.h"
 #include "ringlet/body.h"
 #include "ringlet/body_json.h"
 #include "ringlet/cross_section.h"
 #include "ringlet/hair_file.h"
 #include "ringlet/hair_type.h"
 #include "ringlet/inverse.h"
+#include "ringlet/inverse_summary.h"
 #include "ringlet/masters_json.h"
 #include "ringlet/result_targets.h"
 #include "ringlet/scene_json.h"
@@ -56,6 +58,7 @@ struct InvertArgs {
   bool ignore_usda_metadata = false;
   double clearance = 0.0;
   int threads = 0;
+  int points_per_segment = 0;  // 0: at the target's own points (polylines), else k per segment
   bool no_support_forces = false;  // contact forces as unknowns off (docs/inverse.md)
   bool force = false;
   bool quiet = false;
@@ -69,31 +72,6 @@ constexpr const char* kHairstyleOutputs[] = {"hairstyle.json", "explicit_masters
 std::string Lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
-}
-
-// The strand's physical parameters: the hair type's (section, material and natural curvature of
-// strand i, SampleStrand with seed 1), or the paper's defaults (50 um circular, E = 10 GPa,
-// rho = 1300 kg/m^3, straight).
-bool MaterialOf(const InvertArgs& args, int index, StrandModel* model, std::string* error) {
-  if (args.hair_type.empty()) {
-    model->section = SectionFromEccentricity(kDefaultRadius, 0.0);
-    model->material = Material{};
-    return true;
-  }
-  const size_t slash = args.hair_type.find('/');
-  const std::string origin = args.hair_type.substr(0, slash);
-  const std::string curl = slash == std::string::npos ? "" : args.hair_type.substr(slash + 1);
-  HairType type;
-  std::string why;
-  if (!FindHairType(origin, curl, &type, &why)) {
-    *error = "--hair-type: " + why;
-    return false;
-  }
-  const StrandParameters p = SampleStrand(type, 1, static_cast<uint64_t>(index));
-  model->section = p.section;
-  model->material = p.material;
-  model->natural_curvature = p.natural_curvature;
-  return true;
 }
 
 // The sag-free groom of the inverted strands (with --body only: a hairstyle needs a body):
@@ -179,6 +157,9 @@ int RunInvert(const InvertArgs& args) {
   std::vector<StrandModel> models;
   std::vector<VecX> targets;
   std::vector<double> fit_max, fit_rms;
+  // Per strand, the arc lengths of the target's points on the fitted curve (polyline targets):
+  // where equilibrium.hair and naive.hair are sampled unless --points-per-segment is given.
+  std::vector<std::vector<double>> sample_arc_lengths;
   const auto fit_start = std::chrono::steady_clock::now();
   if (extension == ".json") {
     std::vector<ExactTarget> exact;
@@ -234,7 +215,12 @@ int RunInvert(const InvertArgs& args) {
     }
     std::vector<HelixFit> fits;
     int failed = 0;
-    if (!FitPiecewiseHelices(polylines, fit_options, args.threads, &fits, &failed, &error)) {
+    ProgressBar fit_bar("fitting", !args.quiet);
+    const bool fitted = FitPiecewiseHelices(
+        polylines, fit_options, args.threads, &fits, &failed, &error,
+        [&fit_bar](int done, int total) { fit_bar.Update(done, total); });
+    fit_bar.Finish();
+    if (!fitted) {
       const size_t k = static_cast<size_t>(failed);
       const uint64_t file_index = k < read_summary.file_strand_index.size()
                                       ? read_summary.file_strand_index[k]
@@ -251,6 +237,7 @@ int RunInvert(const InvertArgs& args) {
       targets.push_back(fit.curvatures);
       fit_max.push_back(fit.max_distance);
       fit_rms.push_back(fit.rms_distance);
+      sample_arc_lengths.push_back(fit.arc_lengths);
     }
   } else {
     PrintError(args.target_path + ": unknown target format \"" + extension +
@@ -260,8 +247,9 @@ int RunInvert(const InvertArgs& args) {
   }
   const double fit_seconds = SecondsSince(fit_start);
   for (size_t i = 0; i < models.size(); ++i) {
-    if (!MaterialOf(args, static_cast<int>(i), &models[i], &error)) {
-      PrintError(error);
+    // The hair type's section, material and natural curl (or the paper's defaults).
+    if (!ApplyInverseHairType(args.hair_type, i, &models[i], &error)) {
+      PrintError("--hair-type: " + error);
       return kExitBadInput;
     }
     models[i].contact.obstacle = body;
@@ -276,88 +264,47 @@ int RunInvert(const InvertArgs& args) {
   const auto invert_start = std::chrono::steady_clock::now();
   InverseOptions inverse_options;
   inverse_options.contact_forces = !args.no_support_forces;
+  ProgressBar invert_bar("inverting", !args.quiet);
   const std::vector<InverseResult> results =
-      InvertStrands(models, targets, inverse_options, args.threads);
+      InvertStrands(models, targets, inverse_options, args.threads,
+                    [&invert_bar](int done, int total) { invert_bar.Update(done, total); });
+  invert_bar.Finish();
   const double invert_seconds = SecondsSince(invert_start);
 
   // Outputs, encoded before anything is written.
   HairCurves equilibrium, naive;
-  int unstable = 0, unconverged = 0, supported = 0, fallbacks = 0;
-  double support_force = 0.0;
-  double max_fit = 0.0, max_fit_l = 0.0, sum_fit2 = 0.0, max_dev = 0.0, max_dev_l = 0.0,
-         max_naive = 0.0, max_naive_l = 0.0;
-  nlohmann::ordered_json per_strand = nlohmann::ordered_json::array();
   std::vector<StrandModel> inverted = models;
   for (size_t i = 0; i < models.size(); ++i) {
     const InverseResult& r = results[i];
-    const double length = models[i].Length();
     inverted[i].rest_curvatures = r.rest_curvatures;
     inverted[i].contact.support_offsets = r.support_offsets;
-    unstable += r.stable ? 0 : 1;
-    unconverged += r.forward.Converged() ? 0 : 1;
-    max_fit = std::max(max_fit, fit_max[i]);
-    max_fit_l = std::max(max_fit_l, fit_max[i] / length);
-    sum_fit2 += fit_rms[i] * fit_rms[i];
-    max_dev = std::max(max_dev, r.deviation);
-    max_dev_l = std::max(max_dev_l, r.deviation / length);
-    max_naive = std::max(max_naive, r.naive_deviation);
-    max_naive_l = std::max(max_naive_l, r.naive_deviation / length);
-    supported += r.supported_samples;  // contact forces as unknowns (docs/inverse.md)
-    fallbacks += r.support_fallback ? 1 : 0;
-    support_force += r.support_force;
     for (auto [curves, q] : {std::pair{&equilibrium, &r.equilibrium},
                              std::pair{&naive, &r.naive_equilibrium}}) {
-      const std::vector<Vec3> points = SampleCentreline(models[i], *q, 4);
+      // At the target's points (a point per target point, at its arc length on the fitted
+      // curve), or k points per helical segment (--points-per-segment; exact targets: 4).
+      const std::vector<Vec3> points =
+          args.points_per_segment == 0 && i < sample_arc_lengths.size()
+              ? SampleCentrelineAt(models[i], *q, sample_arc_lengths[i])
+              : SampleCentreline(models[i], *q,
+                                 args.points_per_segment > 0 ? args.points_per_segment : 4);
       curves->point_counts.push_back(static_cast<uint32_t>(points.size()));
       for (const Vec3& p : points) {
         curves->points.push_back(p.cast<float>());
         curves->widths.push_back(static_cast<float>(2.0 * models[i].section.MeanRadius()));
       }
     }
-    per_strand.push_back({{"length", length},
-                          {"segments", models[i].NumSegments()},
-                          {"fit_max_distance", fit_max[i]},
-                          {"fit_rms_distance", fit_rms[i]},
-                          {"stable", r.stable},
-                          {"min_hessian_eigenvalue", r.min_eigenvalue},
-                          {"kirchhoff_residual", r.kirchhoff_residual},
-                          {"supported_samples", r.supported_samples},
-                          {"support_force", r.support_force},
-                          {"support_fallback", r.support_fallback},
-                          {"rest_energy", r.rest_energy},
-                          {"rest_energy_unsupported", r.rest_energy_unsupported},
-                          {"deviation", r.deviation},
-                          {"naive_deviation", r.naive_deviation},
-                          {"forward_termination", TerminationName(r.forward.termination)},
-                          {"message", r.message}});
   }
-  const int n = static_cast<int>(models.size());
-  nlohmann::ordered_json summary = {
-      {"strands", n},
-      {"unstable", unstable},
-      {"unconverged", unconverged},
-      {"fit_max_distance", max_fit},
-      {"fit_max_distance_per_length", max_fit_l},
-      {"fit_rms_distance", std::sqrt(sum_fit2 / std::max(1, n))},
-      {"max_deviation", max_dev},
-      {"max_deviation_per_length", max_dev_l},
-      {"naive_max_deviation", max_naive},
-      {"naive_max_deviation_per_length", max_naive_l},
-      {"supported_samples", supported},
-      {"support_force", support_force},
-      {"support_fallbacks", fallbacks},
-      {"fit_seconds", fit_seconds},
-      {"invert_seconds", invert_seconds},
-      {"strand_results", std::move(per_strand)},
-      {"units",
-       {{"distances", "m (and per_length: units of each strand's length L)"},
-        {"rest_energy", "J: elastic energy bending the hair type's natural shape into the "
-                        "rest shape, what the support forces minimize (_unsupported: without them)"},
-        {"support_force", "N: total normal force of the body on the contact samples that carry one "
-                          "(supported_samples), chosen by the inversion"},
-        {"deviation",
-         "largest distance from the target of the forward equilibrium from the inverted rest "
-         "shape (naive_: from the rest shape = target)"}}}};
+  nlohmann::ordered_json summary =
+      InversionSummary(models, results, fit_max, fit_rms, fit_seconds, invert_seconds);
+  const int n = summary["strands"].get<int>();
+  const int unstable = summary["unstable"].get<int>();
+  const int unconverged = summary["unconverged"].get<int>();
+  const double max_fit = summary["fit_max_distance"].get<double>();
+  const double max_fit_l = summary["fit_max_distance_per_length"].get<double>();
+  const double max_dev = summary["max_deviation"].get<double>();
+  const double max_dev_l = summary["max_deviation_per_length"].get<double>();
+  const double max_naive = summary["naive_max_deviation"].get<double>();
+  const double max_naive_l = summary["naive_max_deviation_per_length"].get<double>();
   std::vector<std::pair<std::string, std::string>> files;
   files.emplace_back("rest_shapes.json", SceneToString(inverted));
   HairFileOptions hair_options;
@@ -388,8 +335,13 @@ int RunInvert(const InvertArgs& args) {
         FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
     std::fflush(stdout);
     if (unstable + unconverged > 0) {
-      PrintWarning(Format("%d of %d targets cannot be held stably (see summary.json)",
-                          unstable + unconverged, n));
+      // Without a body, nothing holds a strand that lies on the head: the likely fix.
+      PrintWarning(Format("%d of %d targets cannot be held stably (see summary.json)%s",
+                          unstable + unconverged, n,
+                          args.body_path.empty()
+                              ? "; without --body nothing supports strands that rest on the "
+                                "head or body: pass --body BODY.json (docs/inverse.md)"
+                              : ""));
     }
   }
   return unstable + unconverged == 0 ? kExitSuccess : kExitUnsolved;
@@ -443,6 +395,11 @@ Command AddInvertCommand(CLI::App* parent) {
   app->add_flag("--force", args->force, "Overwrite existing output files");
   app->add_option("--threads", args->threads, "Worker threads (default 0: all cores)")
       ->check(CLI::Range(0, 1024));
+  app->add_option("--points-per-segment", args->points_per_segment,
+                  "Points per helical segment in equilibrium.hair and naive.hair (default 0: a "
+                  "point for each target point, at its arc length, for polyline targets; 4 for "
+                  "exact JSON targets)")
+      ->check(CLI::Range(0, 1000));
   app->add_flag("-q,--quiet", args->quiet, "Print no summary (errors still go to stderr)");
   return Command{app, [args, units, up] {
                    args->units_given = units->count() + up->count() > 0;

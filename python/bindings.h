@@ -33,8 +33,11 @@ nlohmann::json ToJson(py::handle value, const std::string& where);
 /// Runs work() on a worker thread while the calling (Python) thread waits with the GIL released,
 /// checking for signals every 20 ms. On Ctrl-C (any exception from a signal handler) sets
 /// *cancel, waits for the worker to stop and re-raises the Python exception (KeyboardInterrupt).
-/// An exception thrown by work() is re-thrown in the calling thread.
-void RunInterruptibly(const std::function<void()>& work, std::atomic<bool>* cancel);
+/// An exception thrown by work() is re-thrown in the calling thread. on_tick, when given, is
+/// called with the GIL held on each 20-ms check and once after work() succeeded (progress
+/// callbacks); an exception it raises cancels like Ctrl-C and is re-raised.
+void RunInterruptibly(const std::function<void()>& work, std::atomic<bool>* cancel,
+                      const std::function<void()>& on_tick = {});
 
 /// A numpy array viewing `data` (no copy) with the given shape and strides (bytes), kept alive
 /// by `owner` (the Python object owning the storage). Read-only unless writable.
@@ -66,5 +69,6 @@ py::array OwnedArray(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
 void BindSolve(py::module_& m);
 void BindHair(py::module_& m);
 void BindRender(py::module_& m);
+void BindInverse(py::module_& m);  // after BindSolve (it extends StrandModel)
 
 }  // namespace ringlet::python

@@ -81,7 +81,8 @@ nlohmann::json ToJson(py::handle value, const std::string& where) {
               "got " + std::string(py::str(value.get_type().attr("__name__"))));
 }
 
-void RunInterruptibly(const std::function<void()>& work, std::atomic<bool>* cancel) {
+void RunInterruptibly(const std::function<void()>& work, std::atomic<bool>* cancel,
+                      const std::function<void()>& on_tick) {
   std::exception_ptr failure;
   std::mutex mutex;
   std::condition_variable finished;
@@ -108,6 +109,14 @@ void RunInterruptibly(const std::function<void()>& work, std::atomic<bool>* canc
         // Runs the Python signal handlers (this is the main thread when called from it); the
         // KeyboardInterrupt stays set in this thread state until re-raised below.
         interrupted = PyErr_CheckSignals() != 0;
+        if (!interrupted && on_tick) {
+          try {
+            on_tick();
+          } catch (py::error_already_set& e) {
+            e.restore();  // raised again below, as a signal handler's exception would be
+            interrupted = true;
+          }
+        }
       }
       if (interrupted) cancel->store(true);
       lock.lock();
@@ -117,6 +126,7 @@ void RunInterruptibly(const std::function<void()>& work, std::atomic<bool>* canc
   }
   if (interrupted) throw py::error_already_set();
   if (failure) std::rethrow_exception(failure);
+  if (on_tick) on_tick();  // the final report, so that short work reports once too
 }
 
 }  // namespace ringlet::python
@@ -131,4 +141,5 @@ PYBIND11_MODULE(_ringlet, m) {
   BindSolve(m);
   BindHair(m);
   BindRender(m);
+  BindInverse(m);
 }

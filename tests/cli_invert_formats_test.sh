@@ -79,6 +79,53 @@ run invert "$here/data/strand_targets/polylines.obj" -o "$work/poly"
 expect_rc "invert polylines.obj" 0
 grep -q "inverted 2 strands" "$work/stdout" && ok || fail "polylines.obj: $(cat "$work/stdout")"
 
+# Outputs at the target's own sampling (issue 25, item 11): a dense target (25 points per helical
+# segment, 376 to 1,001 points per strand) comes back with one point per target point, each within
+# fit + deviation of its target point; strands 0, 1 and 3, fitted exactly by 15 segments (see
+# above), within 1e-6 L (float rounding of the .hair: ~3e-8 L). --points-per-segment 4 gives
+# 15 x 4 + 1 = 61 points per strand instead.
+run invert "$work/targets.json" -o "$work/dense" --points-per-segment 25 -q
+expect_rc "exact targets written with 25 points per segment" 0
+run invert "$work/dense/equilibrium.hair" -o "$work/resampled" --segments 15 -q
+expect_rc "invert the dense .hair target" 0
+run invert "$work/dense/equilibrium.hair" -o "$work/per_segment" --segments 15 -q \
+  --points-per-segment 4
+expect_rc "invert the dense .hair target, --points-per-segment 4" 0
+"$PYTHON" - "$work/dense/equilibrium.hair" "$work/resampled" "$work/per_segment" <<'PY' \
+  && ok || fail "equilibrium.hair at the target's sampling"
+import json, struct, sys
+def read_hair(path):  # docs/file-formats.md: header 128 bytes, segments array when flag 0x1
+    data = open(path, "rb").read()
+    assert data[:4] == b"HAIR"
+    n, points, flags, default_segments = struct.unpack("<IIII", data[4:20])
+    offset = 128
+    counts = [default_segments] * n
+    if flags & 1:
+        counts = list(struct.unpack("<%dH" % n, data[offset:offset + 2 * n]))
+        offset += 2 * n
+    assert flags & 2 and sum(c + 1 for c in counts) == points, (flags, points)
+    xyz = struct.unpack("<%df" % (3 * points), data[offset:offset + 12 * points])
+    strands, k = [], 0
+    for c in counts:
+        strands.append([xyz[3 * j:3 * j + 3] for j in range(k, k + c + 1)])
+        k += c + 1
+    return strands
+target = read_hair(sys.argv[1])
+out = read_hair(sys.argv[2] + "/equilibrium.hair")
+summary = json.load(open(sys.argv[2] + "/summary.json"))["strand_results"]
+assert [len(s) for s in target] == [15 * 25 + 1, 15 * 25 + 1, 20 * 25 + 1, 15 * 25 + 1,
+                                    40 * 25 + 1], [len(s) for s in target]
+assert [len(s) for s in out] == [len(s) for s in target], [len(s) for s in out]
+for k, (a, b, r) in enumerate(zip(target, out, summary)):
+    worst = max(sum((x - y) ** 2 for x, y in zip(p, q)) ** 0.5 for p, q in zip(a, b))
+    bound = r["fit_max_distance"] + r["deviation"] + 1e-6 * r["length"]
+    if k in (0, 1, 3):
+        bound = 1e-6 * r["length"]
+    assert worst <= bound, (k, worst, bound, r["length"])
+per_segment = read_hair(sys.argv[3] + "/equilibrium.hair")
+assert [len(s) for s in per_segment] == [61] * 5, [len(s) for s in per_segment]
+PY
+
 # Bad inputs: one line naming the file (and strand and point), nothing written.
 bad() {  # bad WHAT SUBSTRING ARGS...
   local what=$1 substring=$2

@@ -25,6 +25,15 @@ from . import curves_data, hair_format
 
 UNIT_NAMES = {1.0: " (metres)", 100.0: " (centimetres)", 1000.0: " (millimetres)"}
 
+# The fibre radius exported for a Curves object without a "radius" attribute (a groom made with
+# Blender's own tools has none): ringlet's default, the paper's 50-um mean radius of human hair
+# (kDefaultRadius in include/ringlet/scene_json.h), i.e. a thickness (diameter) of 0.1 mm.
+DEFAULT_RADIUS = 50e-6
+
+# The body's default skin: a Principled BSDF with subsurface scattering, a light skin tone
+# (linear RGB) and a matte roughness; Cycles and Eevee render it as skin, not a white blank.
+SKIN_COLOUR = (0.80, 0.54, 0.42)
+
 
 def info_text(units_per_metre):
     """The info text ringlet writes (ringlet::DefaultHairInfo in src/io/hair_file.cpp): the
@@ -56,6 +65,27 @@ def hair_material(color):
     socket.default_value = tuple(sigma[:3]) + ((1.0,) if len(socket.default_value) == 4 else ())
     material.node_tree.links.new(bsdf.outputs[0], output.inputs["Surface"])
     material.diffuse_color = (float(c[0]), float(c[1]), float(c[2]), 1.0)  # viewport colour
+    return material
+
+
+def skin_material():
+    """A skin-like default material for imported bodies (ringlet's body.obj has none): Principled
+    BSDF, base colour SKIN_COLOUR, subsurface 0.1 with a reddish radius, roughness 0.5."""
+    material = bpy.data.materials.new("ringlet skin")
+    material.use_nodes = True
+    bsdf = next((n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"),
+                None)
+    if bsdf is not None:
+        bsdf.inputs["Base Color"].default_value = SKIN_COLOUR + (1.0,)
+        bsdf.inputs["Roughness"].default_value = 0.5
+        for name, value in (("Subsurface", 0.1), ("Subsurface Weight", 0.1)):
+            if name in bsdf.inputs:  # Blender 3.x calls it Subsurface, 4.x Subsurface Weight
+                bsdf.inputs[name].default_value = value
+        if "Subsurface Radius" in bsdf.inputs:
+            bsdf.inputs["Subsurface Radius"].default_value = (1.0, 0.2, 0.1)
+        if "Subsurface Color" in bsdf.inputs:  # Blender 3.x
+            bsdf.inputs["Subsurface Color"].default_value = SKIN_COLOUR + (1.0,)
+    material.diffuse_color = SKIN_COLOUR + (1.0,)  # viewport colour
     return material
 
 
@@ -103,12 +133,21 @@ def attach(obj, surface):
             obj.data.surface_uv_map = surface.data.uv_layers.active.name
 
 
-def export_hair(obj, path, units_per_metre=1.0, apply_transform=True):
+def export_hair(obj, path, units_per_metre=1.0, apply_transform=True,
+                default_radius=DEFAULT_RADIUS):
     """Writes a Curves object as .hair: points (world space when apply_transform, in file
-    units), thickness = 2 x radius (metres x units_per_metre; a Curves without a "radius"
-    attribute gets no thickness array and header thickness 0), the "color" attribute if any.
-    Returns the HairData written."""
+    units), thickness = 2 x radius (metres x units_per_metre), the "color" attribute if any.
+    A Curves without a "radius" attribute (a groom made in Blender) is written with
+    default_radius (m, ringlet's 50 um unless given) at every point, scaled with the object like
+    a radius attribute would be. Returns (the HairData written, whether the default radius was
+    used)."""
     counts, points, radii, colors = curves_data.read_curves(obj.data)
+    defaulted = radii is None
+    if defaulted:
+        if not (np.isfinite(default_radius) and default_radius > 0.0):
+            raise ValueError("default radius: expected a finite number > 0 (m), got %r"
+                             % (default_radius,))
+        radii = np.full(points.shape[0], default_radius, dtype=np.float32)
     matrix = np.array(obj.matrix_world, dtype=np.float64)
     if apply_transform and not np.array_equal(matrix, np.eye(4)):
         p = points.astype(np.float64) @ matrix[:3, :3].T + matrix[:3, 3]
@@ -126,7 +165,7 @@ def export_hair(obj, path, units_per_metre=1.0, apply_transform=True):
             thickness = (radii.astype(np.float64) * 2.0 * units_per_metre).astype(np.float32)
     hair = hair_format.HairData(counts, points, thickness, colors, info=info_text(units_per_metre))
     hair_format.write(path, hair)
-    return hair
+    return hair, defaulted
 
 
 class RINGLET_OT_import_hair(bpy.types.Operator, ImportHelper):
@@ -188,6 +227,11 @@ def import_output_folder(context, directory, with_body=True, with_material=True)
         # in Blender since 3.2).
         bpy.ops.wm.obj_import(filepath=body_path, forward_axis="Y", up_axis="Z")
         new = [o for o in bpy.data.objects if o not in before and o.type == "MESH"]
+        if new and with_material:
+            skin = skin_material()
+            for o in new:
+                o.data.materials.clear()
+                o.data.materials.append(skin)
         if new:
             body = new[0]
             if len(new) > 1:  # one object per body component: join them into one surface
@@ -242,19 +286,37 @@ class RINGLET_OT_export_hair(bpy.types.Operator, ExportHelper):
                                    description="1 writes metres (ringlet's default)")
     apply_transform: BoolProperty(name="World space", default=True,
                                   description="Apply the object's transform to the points")
-
-    @classmethod
-    def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "CURVES"
+    default_radius: FloatProperty(
+        name="Default radius", default=DEFAULT_RADIUS, min=1e-9, soft_max=1e-3, precision=6,
+        unit="LENGTH",
+        description="Fibre radius written for curves without a radius attribute (grooms made "
+                    "in Blender have none): ringlet's default 50 um")
 
     def execute(self, context):
+        # The object to export: the active one if it is hair, else the one selected hair Curves
+        # object; anything else gets a message saying what to select (not Blender's bare
+        # "context is incorrect" of a failed poll).
         obj = context.active_object
+        if obj is None or obj.type != "CURVES":
+            selected = [o for o in context.selected_objects if o.type == "CURVES"]
+            if len(selected) != 1:
+                what = "nothing is active" if obj is None else \
+                    "the active object \"%s\" is a %s" % (obj.name, obj.type.lower())
+                self.report({"ERROR"}, "Export Hair (.hair): select the hair Curves object to "
+                            "export and make it active (%s; %d hair Curves objects selected)"
+                            % (what, len(selected)))
+                return {"CANCELLED"}
+            obj = selected[0]
         try:
-            hair = export_hair(obj, self.filepath, self.units_per_metre, self.apply_transform)
-        except (OSError, hair_format.HairFileError) as e:
+            hair, defaulted = export_hair(obj, self.filepath, self.units_per_metre,
+                                          self.apply_transform, self.default_radius)
+        except (OSError, ValueError, hair_format.HairFileError) as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
+        if defaulted:
+            self.report({"WARNING"}, "%s has no radius attribute: wrote the default radius "
+                        "%.3g m (thickness %.3g m) at every point"
+                        % (obj.name, self.default_radius, 2.0 * self.default_radius))
         self.report({"INFO"}, "%s: %d strands, %d points" % (self.filepath, hair.num_strands,
                                                            hair.num_points))
         return {"FINISHED"}

@@ -86,9 +86,13 @@ def create_curves_object(context, name, point_counts, points, radii, colors=None
         if mesh.users == 0:
             bpy.data.meshes.remove(mesh)
         raise RuntimeError("Blender did not convert the strands to a Curves object")
-    # The temporary mesh is no longer used by any object (object.convert leaves it orphaned).
-    if not any(o.data == mesh for o in bpy.data.objects):
-        bpy.data.meshes.remove(mesh, do_unlink=True)
+    # The temporary mesh is no longer used by any object (object.convert leaves it orphaned, but
+    # with a stale user count of 1 in Blender 3.4.1: removing it then printed a red
+    # "ERROR (bke.lib_id_delete) ... still has 1 users" on every import). When no ID uses it
+    # (bpy.data.user_map), clear the count first.
+    if not bpy.data.user_map(subset=[mesh])[mesh]:
+        mesh.user_clear()
+        bpy.data.meshes.remove(mesh)
     curves = obj.data
     curves.name = name
     strands = point_counts.size

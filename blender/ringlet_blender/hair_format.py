@@ -245,6 +245,21 @@ def encode(hair):
     return b"".join(parts)
 
 
+def _umask():
+    """The process's file mode creation mask."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    import os
+    mask = os.umask(0o022)  # not thread-safe, only where /proc is missing
+    os.umask(mask)
+    return mask
+
+
 def write(path, hair):
     """Encodes hair and writes it atomically (a temporary file in the same folder, then a
     rename): the file appears only complete."""
@@ -254,6 +269,9 @@ def write(path, hair):
     folder = os.path.dirname(os.path.abspath(path))
     fd, temporary = tempfile.mkstemp(prefix=".ringlet-", suffix=".hair.tmp", dir=folder)
     try:
+        # mkstemp makes the file private (0600); a saved file gets the mode any new file of the
+        # user gets: 0666 less the umask (read without changing it: /proc's Umask line, Linux).
+        os.fchmod(fd, 0o666 & ~_umask())
         with os.fdopen(fd, "wb") as f:
             f.write(data)
         os.replace(temporary, path)

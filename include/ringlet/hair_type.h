@@ -13,6 +13,7 @@
 #include "ringlet/cross_section.h"
 #include "ringlet/material.h"
 #include "ringlet/math.h"
+#include "ringlet/strand_model.h"
 
 namespace ringlet {
 
@@ -106,5 +107,13 @@ struct StrandParameters {
 /// random stream (groom/random.h), so the result does not depend on which other strands are drawn,
 /// in which order or on how many threads. `type` must be valid.
 StrandParameters SampleStrand(const HairType& type, uint64_t seed, uint64_t strand_index);
+
+/// The section, material and natural curvature that inverse statics gives target strand
+/// `strand_index` (`ringlet invert --hair-type`, ringlet.invert): for spec "ORIGIN" or
+/// "ORIGIN/CURL" the hair type's SampleStrand with seed 1; for an empty spec the paper's
+/// defaults (a circular 50-um fibre, Material{}, straight). Sets model->section, ->material and
+/// ->natural_curvature. An unknown name returns false with `why` naming the valid ones.
+bool ApplyInverseHairType(std::string_view spec, uint64_t strand_index, StrandModel* model,
+                          std::string* why);
 
 }  // namespace ringlet

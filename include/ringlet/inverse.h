@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ringlet/math.h"
+#include "ringlet/solve_strands.h"  // ProgressCallback
 #include "ringlet/statics.h"
 #include "ringlet/strand_model.h"
 
@@ -176,7 +177,8 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
 /// `threads` worker threads (0: all). The results do not depend on the thread count.
 std::vector<InverseResult> InvertStrands(const std::vector<StrandModel>& models,
                                          const std::vector<VecX>& targets,
-                                         const InverseOptions& options = {}, int threads = 0);
+                                         const InverseOptions& options = {}, int threads = 0,
+                                         const ProgressCallback& progress = {});
 
 /// Largest distance (m) between the centrelines of two configurations of the same model, at the
 /// root, the segment ends and points_per_segment - 1 points inside each segment.
@@ -260,6 +262,6 @@ bool FitPiecewiseHelix(const std::vector<Vec3>& points, const Mat3* root_frame,
 /// first polyline that failed and *why its reason (FitPiecewiseHelix's "point I: ...").
 bool FitPiecewiseHelices(const std::vector<std::vector<Vec3>>& polylines,
                          const FitOptions& options, int threads, std::vector<HelixFit>* fits,
-                         int* failed, std::string* why);
+                         int* failed, std::string* why, const ProgressCallback& progress = {});
 
 }  // namespace ringlet

@@ -1,10 +1,12 @@
 // Scene files: the JSON description of the strands to solve (docs/scene-format.md).
 #pragma once
 
+#include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
+#include "ringlet/body.h"
 #include "ringlet/statics.h"
 #include "ringlet/strand_model.h"
 
@@ -25,6 +27,10 @@ struct Scene {
   std::vector<StrandModel> strands;
   /// Options of SolveStrand, from the optional "solver" object (SolveOptions defaults otherwise).
   SolveOptions solver;
+  /// The body of the optional "body" member (a body file name or object, docs/body.md), null
+  /// without one. Every strand's contact.obstacle is this body (penalty contact, contact.h) and
+  /// contact.clearance the optional "contact": {"clearance": m} (default 0).
+  std::shared_ptr<const Body> body;
 };
 
 /// Builds a scene from a parsed JSON document, checking every field: unknown or missing fields,
@@ -34,12 +40,18 @@ struct Scene {
 /// returns false. Never throws.
 bool ParseScene(const nlohmann::json& document, Scene* scene, std::string* error);
 
+/// The same, with a body file name in "body" (and OBJ paths in an inline body) relative to
+/// base_directory; the overload above takes them relative to the current directory.
+bool ParseScene(const nlohmann::json& document, const std::string& base_directory, Scene* scene,
+                std::string* error);
+
 /// Parses scene text: JSON syntax errors are reported with their line and column ("line 3,
 /// column 14: invalid JSON: ..."), duplicate fields are errors, then ParseScene checks the rest.
 /// Never throws.
 bool ParseSceneText(const std::string& text, Scene* scene, std::string* error);
 
-/// Reads and parses the scene file at path. Every error message starts with the path
+/// Reads and parses the scene file at path; a "body" file name is relative to the scene file's
+/// directory. Every error message starts with the path
 /// ("scene.json: strands[0].length: missing required field ..."). Never throws.
 bool LoadScene(const std::string& path, Scene* scene, std::string* error);
 
@@ -47,7 +59,7 @@ bool LoadScene(const std::string& path, Scene* scene, std::string* error);
 /// models up to rounding: per strand length, segment_lengths, radius, eccentricity, material,
 /// natural_curvature / natural_twist, rest_curvatures (when the model has one) and root
 /// (position, tangent t, normal n1); gravity from the first model (all must share it). Contact
-/// is not part of the scene format and is left out. Text, indented, ending with a newline.
+/// (a body) is not written: add "body" to the document to solve against one. Text, indented, ending with a newline.
 std::string SceneToString(const std::vector<StrandModel>& models);
 
 /// The name of a minimization method in scene files: "bfgs", "lbfgs", "newton" or "auto".

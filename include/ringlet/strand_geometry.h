@@ -30,6 +30,14 @@ StrandGeometry ComputeGeometry(const StrandModel& model, const VecX& curvatures,
 std::vector<Vec3> SampleCentreline(const StrandModel& model, const VecX& curvatures,
                                    int points_per_segment);
 
+/// The centreline at the given arc lengths s_j (m, nondecreasing, each clamped to [0, L]), exact
+/// on each helix: r(s) = r_i + Q_i p(s - s_i) in the segment i holding s (HelixChord). One point
+/// per arc length: the sampling of a target polyline (`ringlet invert` writes its equilibria at
+/// the target's points, HelixFit::arc_lengths). Returns an empty vector for a model without
+/// segments.
+std::vector<Vec3> SampleCentrelineAt(const StrandModel& model, const VecX& curvatures,
+                                     const std::vector<double>& arc_lengths);
+
 /// A centreline sampled together with its material frames: what the wisp generator needs to
 /// place child strands in the master's cross-section (groom/wisp.cpp). All three arrays have the
 /// same size (>= 2 for a usable strand), root to tip.

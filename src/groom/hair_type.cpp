@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "groom/random.h"
+#include "ringlet/scene_json.h"  // kDefaultRadius
 
 namespace ringlet {
 namespace {
@@ -255,6 +256,26 @@ StrandParameters SampleStrand(const HairType& type, uint64_t seed, uint64_t stra
   p.material = type.material;
   p.length_factor = LogNormal(rng, 1.0, type.length_factor_std);
   return p;
+}
+
+bool ApplyInverseHairType(std::string_view spec, uint64_t strand_index, StrandModel* model,
+                          std::string* why) {
+  if (spec.empty()) {
+    model->section = SectionFromEccentricity(kDefaultRadius, 0.0);
+    model->material = Material{};
+    model->natural_curvature = Vec3::Zero();
+    return true;
+  }
+  const size_t slash = spec.find('/');
+  const std::string_view origin = spec.substr(0, slash);
+  const std::string_view curl = slash == std::string_view::npos ? "" : spec.substr(slash + 1);
+  HairType type;
+  if (!FindHairType(origin, curl, &type, why)) return false;
+  const StrandParameters p = SampleStrand(type, 1, strand_index);
+  model->section = p.section;
+  model->material = p.material;
+  model->natural_curvature = p.natural_curvature;
+  return true;
 }
 
 }  // namespace ringlet

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -670,8 +671,10 @@ bool FitPiecewiseHelix(const std::vector<Vec3>& points, const Mat3* root_frame,
 
 bool FitPiecewiseHelices(const std::vector<std::vector<Vec3>>& polylines,
                          const FitOptions& options, int threads, std::vector<HelixFit>* fits,
-                         int* failed, std::string* why) {
+                         int* failed, std::string* why, const ProgressCallback& progress) {
   const int total = static_cast<int>(polylines.size());
+  std::mutex progress_mutex;  // progress calls are serialized (solve_strands.h)
+  int finished = 0;
   std::vector<HelixFit> out(polylines.size());
   std::vector<std::string> reasons(polylines.size());
   std::vector<char> ok(polylines.size(), 1);
@@ -682,6 +685,10 @@ bool FitPiecewiseHelices(const std::vector<std::vector<Vec3>>& polylines,
       for (int i = r.begin(); i < r.end(); ++i) {
         const size_t k = static_cast<size_t>(i);
         ok[k] = FitPiecewiseHelix(polylines[k], nullptr, options, &out[k], &reasons[k]) ? 1 : 0;
+        if (progress) {
+          std::lock_guard<std::mutex> lock(progress_mutex);
+          progress(++finished, total);
+        }
       }
     });
   });

@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <sstream>
 
 #include <tbb/blocked_range.h>
@@ -525,17 +526,25 @@ InverseResult InvertStrand(const StrandModel& model, const VecX& target,
 
 std::vector<InverseResult> InvertStrands(const std::vector<StrandModel>& models,
                                          const std::vector<VecX>& targets,
-                                         const InverseOptions& options, int threads) {
+                                         const InverseOptions& options, int threads,
+                                         const ProgressCallback& progress) {
   assert(models.size() == targets.size());
   std::vector<InverseResult> results(models.size());
   const int total = static_cast<int>(models.size());
+  std::mutex progress_mutex;  // progress calls are serialized (solve_strands.h)
+  int finished = 0;
   // Each result depends on its strand alone, so any split gives the same results.
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, total), [&](const tbb::blocked_range<int>& r) {
+    // One strand per task (grain 1): strands on the body cost many times the free ones.
+    tbb::parallel_for(tbb::blocked_range<int>(0, total, 1), [&](const tbb::blocked_range<int>& r) {
       for (int i = r.begin(); i < r.end(); ++i) {
         results[static_cast<size_t>(i)] =
             InvertStrand(models[static_cast<size_t>(i)], targets[static_cast<size_t>(i)], options);
+        if (progress) {
+          std::lock_guard<std::mutex> lock(progress_mutex);
+          progress(++finished, total);
+        }
       }
     });
   });

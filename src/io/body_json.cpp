@@ -10,12 +10,14 @@
 #include <filesystem>
 #include <initializer_list>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
+#include "io/body_member.h"
 #include "io/json_reader.h"
 #include "ringlet/atomic_file.h"
 
@@ -226,4 +228,27 @@ bool ParseBodyText(const std::string& text, const std::string& base_directory, B
          ParseBody(document, "", base_directory, body, error);
 }
 
+namespace internal {
+
+bool ParseBodyMember(Reader& reader, const json& document, const std::string& base_directory,
+                     bool required, std::shared_ptr<const Body>* out) {
+  const auto it = document.find("body");
+  const char* expected = "a body file name or a body object {\"spheres\": [...], \"meshes\": [...]}";
+  if (it == document.end()) return required ? reader.Missing("body", expected) : true;
+  auto body = std::make_shared<Body>();
+  std::string error;
+  if (it->is_string()) {
+    std::filesystem::path file(it->get<std::string>());
+    if (file.is_relative()) file = std::filesystem::path(base_directory) / file;
+    if (!LoadBody(file.string(), body.get(), &error)) return reader.Fail("body", error);
+  } else if (it->is_object()) {
+    if (!ParseBody(*it, "body", base_directory, body.get(), &error)) return reader.Fail("", error);
+  } else {
+    return reader.Expected("body", expected, *it);
+  }
+  *out = std::move(body);
+  return true;
+}
+
+}  // namespace internal
 }  // namespace ringlet

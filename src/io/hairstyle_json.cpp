@@ -12,6 +12,7 @@
 
 #include "io/json_reader.h"
 #include "ringlet/atomic_file.h"
+#include "io/body_member.h"
 #include "ringlet/body_json.h"
 #include "ringlet/masters_json.h"
 
@@ -62,27 +63,6 @@ constexpr NumberRule kLayerThicknessRule{"a finite number in [0, 0.1) (m)",
 bool ReadSeed(Reader& reader, const json& object, const std::string& path, const char* key,
               std::uint64_t* seed) {
   return reader.ReadUnsigned(object, path, key, internal::kMaxExactInteger, "2^53", seed);
-}
-
-// "body": a file name (a body JSON file, docs/body.md) or the body object itself.
-bool ParseBodyMember(Reader& reader, const json& document, const std::string& base,
-                     std::shared_ptr<const Body>* out) {
-  const auto it = document.find("body");
-  const char* expected = "a body file name or a body object {\"spheres\": [...], \"meshes\": [...]}";
-  if (it == document.end()) return reader.Missing("body", expected);
-  auto body = std::make_shared<Body>();
-  std::string error;
-  if (it->is_string()) {
-    std::filesystem::path file(it->get<std::string>());
-    if (file.is_relative()) file = std::filesystem::path(base) / file;
-    if (!LoadBody(file.string(), body.get(), &error)) return reader.Fail("body", error);
-  } else if (it->is_object()) {
-    if (!ParseBody(*it, "body", base, body.get(), &error)) return reader.Fail("", error);
-  } else {
-    return reader.Expected("body", expected, *it);
-  }
-  *out = std::move(body);
-  return true;
 }
 
 bool ParseHead(Reader& reader, const json& scalp, const std::string& path, HeadFrame* head) {
@@ -716,7 +696,7 @@ bool ParseHairstyleDocument(Reader& reader, const json& document, const std::str
   }
   Hairstyle style;
   std::shared_ptr<const Body> body;
-  if (!ParseBodyMember(reader, document, base, &body)) return false;
+  if (!internal::ParseBodyMember(reader, document, base, true, &body)) return false;
   style.body = body;
   if (!ParseScalp(reader, document, *body, &style) || !ParseMasters(reader, document, base, &style) ||
       !ParseComb(reader, document, &style) || !ParseHair(reader, document, &style) ||

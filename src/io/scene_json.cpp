@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -16,6 +17,7 @@
 #include "ringlet/atomic_file.h"
 #include "ringlet/cross_section.h"
 #include "ringlet/material.h"
+#include "io/body_member.h"
 #include "io/json_reader.h"
 
 namespace ringlet {
@@ -323,11 +325,18 @@ bool ParseStrand(Reader& reader, const json& strand, const std::string& path, co
   return true;
 }
 
-bool ParseSceneDocument(Reader& reader, const json& document, Scene* out) {
+// "contact": {"clearance": m}, only with a body (the penalty of contact.h).
+constexpr internal::NumberRule kClearanceRule{"a finite number in [0, 0.1) (m)",
+                                              [](double x) { return x >= 0.0 && x < 0.1; }};
+
+bool ParseSceneDocument(Reader& reader, const json& document, const std::string& base_directory,
+                        Scene* out) {
   if (!document.is_object()) {
     return reader.Expected("", "a JSON object {\"strands\": [...]} at the top level", document);
   }
-  if (!reader.CheckFields(document, "", {"gravity", "strands", "solver"})) return false;
+  if (!reader.CheckFields(document, "", {"gravity", "strands", "solver", "body", "contact"})) {
+    return false;
+  }
 
   Vec3 gravity(0.0, 0.0, -9.81);
   if (!reader.ReadVector<3>(document, "", "gravity", "metres per second squared", false,
@@ -342,6 +351,22 @@ bool ParseSceneDocument(Reader& reader, const json& document, Scene* out) {
     return reader.Expected("strands", expected, *strands);
   }
   Scene scene;
+  // The body (optional) and its contact clearance.
+  if (!internal::ParseBodyMember(reader, document, base_directory, false, &scene.body)) {
+    return false;
+  }
+  double clearance = 0.0;
+  const json* contact = nullptr;
+  if (!internal::OptionalObject(reader, document, "", "contact", &contact)) return false;
+  if (contact) {
+    if (!scene.body) {
+      return reader.Fail("contact", "needs a \"body\" to touch (docs/scene-format.md)");
+    }
+    if (!reader.CheckFields(*contact, "contact", {"clearance"}) ||
+        !reader.ReadNumber(*contact, "contact", "clearance", kClearanceRule, false, &clearance)) {
+      return false;
+    }
+  }
   // The solver first: its method limits the segments of every strand.
   if (!internal::ParseSolverObject(reader, document, "", &scene.solver)) return false;
   SegmentBudget budget;
@@ -354,6 +379,10 @@ bool ParseSceneDocument(Reader& reader, const json& document, Scene* out) {
       return false;
     }
     budget.remaining -= model.NumSegments();
+    if (scene.body) {
+      model.contact.obstacle = scene.body;
+      model.contact.clearance = clearance;
+    }
     scene.strands.push_back(std::move(model));
   }
   *out = std::move(scene);
@@ -411,9 +440,14 @@ const char* MethodName(Method method) {
 }
 
 bool ParseScene(const nlohmann::json& document, Scene* scene, std::string* error) {
+  return ParseScene(document, std::string(), scene, error);
+}
+
+bool ParseScene(const nlohmann::json& document, const std::string& base_directory, Scene* scene,
+                std::string* error) {
   Reader reader;
   try {
-    if (ParseSceneDocument(reader, document, scene)) return true;
+    if (ParseSceneDocument(reader, document, base_directory, scene)) return true;
   } catch (const std::exception& e) {
     // Not expected (every access is type-checked first), but the library never throws.
     reader.Fail("", std::string("cannot read the scene: ") + e.what());
@@ -432,7 +466,10 @@ bool LoadScene(const std::string& path, Scene* scene, std::string* error) {
   std::string text;
   if (!ReadFile(path, &text, error)) return false;
   std::string why;
-  if (!ParseSceneText(text, scene, &why)) {
+  json document;
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  if (!internal::ParseJsonText(text, &document, &why) ||
+      !ParseScene(document, base, scene, &why)) {
     if (error) *error = path + ": " + why;
     return false;
   }

@@ -1,7 +1,9 @@
 // Strand reconstruction from curvatures: products of closed-form helical segments.
 #include "ringlet/strand_geometry.h"
 
+#include <algorithm>
 #include <cassert>
+#include <cmath>
 
 #include "ringlet/helix.h"
 
@@ -47,6 +49,36 @@ std::vector<Vec3> SampleCentreline(const StrandModel& model, const VecX& curvatu
     }
   }
   points.push_back(g.points[n]);
+  return points;
+}
+
+std::vector<Vec3> SampleCentrelineAt(const StrandModel& model, const VecX& curvatures,
+                                     const std::vector<double>& arc_lengths) {
+  const int n = model.NumSegments();
+  std::vector<Vec3> points;
+  if (n == 0) return points;
+  const StrandGeometry g = ComputeGeometry(model, curvatures);
+  points.reserve(arc_lengths.size());
+  int i = 0;         // segment holding the current arc length
+  double start = 0;  // arc length at the start of segment i (m)
+  for (double s : arc_lengths) {
+    s = std::isfinite(s) ? std::max(s, 0.0) : 0.0;
+    // Advance to the segment that holds s (arc lengths are nondecreasing); past the tip, the
+    // last segment's end.
+    while (i < n - 1 && s > start + model.segment_lengths[i]) {
+      start += model.segment_lengths[i];
+      ++i;
+    }
+    const double l = model.segment_lengths[i];
+    const double u = std::min(s - start, l);
+    if (u <= 0.0) {
+      points.push_back(g.points[i]);
+    } else if (u >= l) {
+      points.push_back(g.points[i + 1]);
+    } else {
+      points.push_back(g.points[i] + g.frames[i] * HelixChord(curvatures.segment<3>(3 * i), u));
+    }
+  }
   return points;
 }
 

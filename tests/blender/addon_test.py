@@ -147,6 +147,13 @@ check(off_surface.max() < 1e-6, "body vertices are %.3g m off the mannequin's sp
 material = hair.data.materials[0]
 check(any(n.bl_idname == "ShaderNodeBsdfHairPrincipled" for n in material.node_tree.nodes),
       "the hair material has no Principled Hair BSDF")
+# The body gets a skin-like material (issue 25, item 9: it rendered washed-out white).
+check(len(body.data.materials) == 1 and body.data.materials[0].name.startswith("ringlet skin"),
+      "the body has no skin material: %s" % [m.name for m in body.data.materials if m])
+skin = next(n for n in body.data.materials[0].node_tree.nodes
+            if n.bl_idname == "ShaderNodeBsdfPrincipled")
+check(np.allclose(skin.inputs["Base Color"].default_value[:3], (0.80, 0.54, 0.42)),
+      "the skin's base colour is %s" % (tuple(skin.inputs["Base Color"].default_value),))
 
 # --- Blender's own OBJ importer keeps every 2-vertex segment of strands.obj (issue 14: it kept
 # only the first edge of each polyline), z up with Forward Y, Up Z. ---
@@ -215,8 +222,41 @@ check(np.array_equal(r_counts, v_counts) and same_bits(r_points, v_points) and
       same_bits(r_thickness, v_radii * np.float32(2.0)) and r_colours is None,
       "varying counts did not round-trip")
 bpy.data.objects.remove(made)
-# ringlet's own reader (DecodeHairFile, through `ringlet render`) accepts both exports.
-for path in (exported, variable):
+# A groom made in Blender has no radius attribute: Export writes ringlet's default radius
+# (50 um: thickness 1e-4 m at every point) and says so, never thickness 0 (issue 25, item 9).
+made = curves_data.create_curves_object(bpy.context, "no_radius", v_counts, v_points, v_radii)
+made.data.attributes.remove(made.data.attributes["radius"])
+check(made.data.attributes.get("radius") is None, "the radius attribute was not removed")
+bpy.context.view_layer.objects.active = made
+no_radius = os.path.join(WORK, "no_radius.hair")
+check(bpy.ops.ringlet.export_hair(filepath=no_radius) == {"FINISHED"}, "export without radius")
+n_counts, n_points, n_thickness, _, _ = read_hair(no_radius)
+check(n_thickness is not None and same_bits(n_thickness, np.full(n_points.shape[0],
+                                                                  np.float32(50e-6) * 2)),
+      "a Curves without radius was not written with the default thickness 1e-4 m")
+# Files get the user's umask (0666 & ~umask), not mkstemp's private 0600.
+old_mask = os.umask(0o027)
+try:
+    check(bpy.ops.ringlet.export_hair(filepath=no_radius) == {"FINISHED"}, "export (umask 027)")
+finally:
+    os.umask(old_mask)
+check(os.stat(no_radius).st_mode & 0o777 == 0o640, "exported mode %o with umask 027, expected 640"
+      % (os.stat(no_radius).st_mode & 0o777))
+check(os.stat(exported).st_mode & 0o777 == 0o666 & ~old_mask, "exported mode %o with umask %o"
+      % (os.stat(exported).st_mode & 0o777, old_mask))
+# The wrong object active and no hair selected: a message saying what to select.
+bpy.ops.object.select_all(action="DESELECT")
+bpy.context.view_layer.objects.active = body
+try:
+    outcome = bpy.ops.ringlet.export_hair(filepath=os.path.join(WORK, "never.hair"))
+except RuntimeError as e:
+    outcome = str(e)
+check("select the hair Curves object" in str(outcome) and "\"body\" is a mesh" in str(outcome),
+      "export with the body active: %r" % (outcome,))
+check(not os.path.exists(os.path.join(WORK, "never.hair")), "a refused export wrote a file")
+bpy.data.objects.remove(made)
+# ringlet's own reader (DecodeHairFile, through `ringlet render`) accepts the exports.
+for path in (exported, variable, no_radius):
     result = subprocess.run([RINGLET, "render", path, "-o", path + ".png", "--width", "8",
                              "--height", "8", "--spp", "1", "--quiet"],
                             capture_output=True, text=True)

@@ -38,6 +38,13 @@ if [ $rc -ne 0 ] || ! grep -q "^addon_test: .* checks passed" "$work/log"; then
   echo "FAIL: the Blender add-on test failed (exit $rc)"
   exit 1
 fi
+# Blender's own error lines (e.g. "ERROR (bke.lib_id_delete)" from a clumsy temporary-data
+# cleanup, issue 25 item 9) must not appear: a user sees them in red on every import.
+if grep -q "^ERROR (" "$work/log"; then
+  grep "^ERROR (" "$work/log"
+  echo "FAIL: Blender printed error lines while the add-on ran"
+  exit 1
+fi
 grep "^addon_test: " "$work/log"
 grep "^Blender [0-9]" "$work/log" | head -1
 awk -v a="$start" -v b="$end" 'BEGIN { printf "blender_addon: ok in %.1f s, Blender start-up included\n", b - a }' 
