@@ -38,6 +38,9 @@ struct Styled {
   std::shared_ptr<const HairstyleFile> hairstyle;
   StyledHair state;
   int threads = 0;
+  /// An operation is running (on a worker, the GIL released): a second one started from
+  /// another Python thread would work on the same old state and one result would be lost.
+  bool busy = false;
 };
 
 // A float32 (count, 3) view of Vec3f storage (empty storage gives shape (0, 3)).
@@ -153,6 +156,15 @@ std::string WithoutListPrefix(const std::string& message) {
 // Runs one operation on a copy of the state (a cancelled operation leaves its state partly
 // edited, styling.h) and keeps the copy only when it succeeded.
 OperationReport Run(Styled* styled, const StyleOperation& operation) {
+  if (styled->busy) {
+    throw Error("StyledHair: expected one operation at a time, got another while one is "
+                "running (from another thread)");
+  }
+  styled->busy = true;
+  struct Done {
+    bool* busy;
+    ~Done() { *busy = false; }
+  } done{&styled->busy};
   StyledHair copy = styled->state;
   OperationReport report;
   std::string error;

@@ -79,8 +79,8 @@ void BindRender(py::module_& m) {
   m.def(
       "render",
       [](py::object hair, py::object hairstyle, py::object settings, py::object body_path,
-         std::optional<int> width, std::optional<int> height,
-         std::optional<int> samples_per_pixel, std::optional<double> eccentricity, long long threads,
+         std::optional<long long> width, std::optional<long long> height,
+         std::optional<long long> samples_per_pixel, std::optional<double> eccentricity, long long threads,
          bool srgb, bool return_stats) {
         // What to render: a Groom brings its strands and hairstyle.
         std::shared_ptr<const HairstyleFile> style;
@@ -108,9 +108,26 @@ void BindRender(py::module_& m) {
             throw Error(error);
           }
         }
-        if (width) s.options.width = *width;
-        if (height) s.options.height = *height;
-        if (samples_per_pixel) s.options.samples_per_pixel = *samples_per_pixel;
+        // The overrides take what `ringlet render` --width, --height and --spp take (CLI::Range
+        // in cli/render_command.cpp, the settings' own limits), then the products are checked
+        // (CheckRenderSize) as the command checks them.
+        const auto override_int = [](const std::optional<long long>& value, const char* field,
+                                     long long max, int* target) {
+          if (!value) return;
+          if (*value < 1 || *value > max) {
+            throw Error(std::string(field) + ": expected an integer between 1 and " +
+                        std::to_string(max) + ", got " + std::to_string(*value));
+          }
+          *target = static_cast<int>(*value);
+        };
+        override_int(width, "width", 16384, &s.options.width);
+        override_int(height, "height", 16384, &s.options.height);
+        override_int(samples_per_pixel, "samples_per_pixel", 1 << 20,
+                     &s.options.samples_per_pixel);
+        if (!CheckRenderSize(s.options.width, s.options.height, s.options.samples_per_pixel,
+                             &error)) {
+          throw Error("width, height, samples_per_pixel (or the settings): " + error);
+        }
         std::shared_ptr<const Body> body;
         double e = 0.0;
         std::uint64_t orientation_seed = 1;

@@ -473,9 +473,21 @@ void BindSolve(py::module_& m) {
         if (options) s.solver = *options;
         std::string why;
         if (!s.solver.IsValid(&why)) throw Error("solver: " + why);
+        // The scene reader's limits (scene_json.cpp), for scenes made in Python: the method's
+        // segment limit (dense BFGS: 72 n^2 bytes) and kMaxTotalSegments in all strands.
+        long total_segments = 0;
         for (size_t i = 0; i < s.strands.size(); ++i) {
-          if (!IsValid(s.strands[i], &why)) {
-            throw Error("strands[" + std::to_string(i) + "]: " + why);
+          const std::string strand = "strands[" + std::to_string(i) + "]";
+          if (!IsValid(s.strands[i], &why)) throw Error(strand + ": " + why);
+          const int n = s.strands[i].NumSegments();
+          if (!CheckMethodSegments(n, s.solver.method, &why)) {
+            throw Error(strand + ".segment_lengths: " + why);
+          }
+          total_segments += n;
+          if (total_segments > kMaxTotalSegments) {
+            throw Error(strand + ".segment_lengths: " + std::to_string(n) +
+                        " more segments would take the scene beyond its limit of " +
+                        std::to_string(kMaxTotalSegments) + " segments in all strands");
           }
         }
         if (points_per_segment < 1 || points_per_segment > 1000) {

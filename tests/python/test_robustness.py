@@ -393,3 +393,67 @@ def test_helpers_in_range_are_unchanged():
     lengths = ringlet.graded_segments(0.3, 3, 4.0)
     assert lengths[2] / lengths[0] == pytest.approx(4.0, rel=1e-14)
     assert ringlet.CrossSection(2e-5, 2e-5).a == 2e-5
+
+
+def test_scene_limits_of_the_reader_hold_for_python_scenes():
+    """A scene made in Python gets the scene reader's limits: dense BFGS up to 1000 segments
+    (the library used to switch to L-BFGS silently), 10^7 segments in all strands."""
+    model = ringlet.StrandModel(ringlet.uniform_segments(0.3, 1001),
+                                ringlet.CrossSection(5e-5, 5e-5))
+    with pytest.raises(ringlet.Error) as info:
+        ringlet.solve(model, options=ringlet.SolveOptions(method="bfgs"))
+    assert str(info.value).startswith(
+        'strands[0].segment_lengths: 1001 segments exceed the limit of 1000 for the method "bfgs"')
+    reference = {"strands": [{"length": 0.3, "segments": 1001}], "solver": {"method": "bfgs"}}
+    with pytest.raises(ringlet.Error) as file_info:
+        ringlet.parse_scene(reference)
+    assert str(file_info.value).split(": ", 1)[1] == str(info.value).split(": ", 1)[1]
+    big = ringlet.StrandModel(ringlet.uniform_segments(0.3, 100000),
+                              ringlet.CrossSection(5e-5, 5e-5))
+    with pytest.raises(ringlet.Error) as info:
+        ringlet.solve([big] * 101)
+    assert str(info.value) == ("strands[100].segment_lengths: 100000 more segments would take "
+                               "the scene beyond its limit of 10000000 segments in all strands")
+
+
+def test_render_overrides_take_what_the_command_takes(small_style, cli, tmp_path):
+    path, _ = small_style
+    groom = ringlet.groom(str(path), threads=1)
+    for kwargs, message in [
+        ({"width": 0}, "width: expected an integer between 1 and 16384, got 0"),
+        ({"height": 2**40}, "height: expected an integer between 1 and 16384, got 1099511627776"),
+        ({"samples_per_pixel": 2**20 + 1},
+         "samples_per_pixel: expected an integer between 1 and 1048576, got 1048577"),
+    ]:
+        with pytest.raises(ringlet.Error) as info:
+            ringlet.render(groom, **kwargs)
+        assert str(info.value) == message
+    with pytest.raises(ringlet.Error) as info:
+        ringlet.render(groom, width=16384, height=16384, samples_per_pixel=1)
+    mine = str(info.value)
+    assert mine.startswith("width, height, samples_per_pixel (or the settings): ")
+    done = cli("render", path, "-o", tmp_path / "x.png", "--width", 16384, "--height", 16384,
+               "--spp", 1, check=False)
+    assert cli_error(done).split(": ", 1)[1] == mine.split(": ", 1)[1]
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_one_styling_operation_at_a_time(small_style):
+    """Two threads styling the same head used to run both on the same old state (one result
+    silently lost); the second is now refused while the first runs."""
+    import threading
+    path, _ = small_style
+    styled = ringlet.StyledHair(ringlet.groom(str(path), threads=1), threads=1)
+    worker = threading.Thread(target=lambda: styled.grow(step=0.005, steps=40))
+    worker.start()
+    refused = None
+    while worker.is_alive() and refused is None:
+        try:
+            styled.dry()
+        except ringlet.Error as e:
+            refused = str(e)
+    worker.join()
+    if refused is None:
+        pytest.skip("the grow finished before a second operation could start")
+    assert refused == ("StyledHair: expected one operation at a time, got another while one "
+                       "is running (from another thread)")
