@@ -455,11 +455,9 @@ void BindHair(py::module_& m) {
           [](py::object self) { return References(self.cast<GroomResult&>().groom.solutions, self); },
           "One StrandSolution per master.")
       .def_property_readonly(
-          "models",
-          [](py::object self) {
-            return References(self.cast<GroomResult&>().groom.masters.models, self);
-          },
-          "One StrandModel per master (do not change them: the groom is done).")
+          "models", [](const GroomResult& g) { return g.groom.masters.models; },
+          "One StrandModel per master: copies (the groom is done; its pickle rebuilds its "
+          "masters from the hairstyle, so an edit could not travel with it).")
       .def_property_readonly(
           "root_positions",
           [](py::object self) {

@@ -18,7 +18,9 @@
 #include "ringlet/contact.h"
 #include "ringlet/hair_curves.h"
 #include "ringlet/hairstyle.h"
+#include "ringlet/render.h"
 #include "ringlet/result_json.h"
+#include "ringlet/styling.h"
 #include "ringlet/scene_json.h"
 #include "ringlet/statics.h"
 #include "ringlet/strand_model.h"
@@ -210,6 +212,59 @@ SolveSummary SummaryFrom(const py::tuple& state) {
   s.contact.max_clearance_violation = f[16].cast<double>();
   s.contact.samples_in_contact = f[17].cast<int>();
   return s;
+}
+
+py::tuple EnergyState(const EnergyTerms& e) { return State(e.elastic, e.gravity, e.contact, e.total); }
+EnergyTerms EnergyFrom(const py::tuple& state) {
+  const py::tuple f = Fields(state, 4, "EnergyTerms");
+  return EnergyTerms{f[0].cast<double>(), f[1].cast<double>(), f[2].cast<double>(),
+                     f[3].cast<double>()};
+}
+
+py::tuple ContactState(const ContactMeasure& c) {
+  return State(c.max_penetration, c.max_clearance_violation, c.samples_in_contact);
+}
+ContactMeasure ContactFrom(const py::tuple& state) {
+  const py::tuple f = Fields(state, 3, "ContactMeasure");
+  ContactMeasure c;
+  c.max_penetration = f[0].cast<double>();
+  c.max_clearance_violation = f[1].cast<double>();
+  c.samples_in_contact = f[2].cast<int>();
+  return c;
+}
+
+py::tuple ReportState(const OperationReport& r) {
+  return State(r.name, r.strands, r.iterations, r.seconds, r.unconverged, r.rounds, r.message);
+}
+OperationReport ReportFrom(const py::tuple& state) {
+  const py::tuple f = Fields(state, 7, "OperationReport");
+  OperationReport r;
+  r.name = f[0].cast<std::string>();
+  r.strands = f[1].cast<int>();
+  r.iterations = f[2].cast<long>();
+  r.seconds = f[3].cast<double>();
+  r.unconverged = f[4].cast<int>();
+  r.rounds = f[5].cast<int>();
+  r.message = f[6].cast<std::string>();
+  return r;
+}
+
+py::tuple RenderStatsState(const RenderStats& r) {
+  return State(r.seconds, r.build_seconds, r.camera_rays, r.rays, r.nan_samples,
+               r.denoise_seconds, r.hair_segments, r.body_primitives);
+}
+RenderStats RenderStatsFrom(const py::tuple& state) {
+  const py::tuple f = Fields(state, 8, "RenderStats");
+  RenderStats r;
+  r.seconds = f[0].cast<double>();
+  r.build_seconds = f[1].cast<double>();
+  r.camera_rays = f[2].cast<std::int64_t>();
+  r.rays = f[3].cast<std::int64_t>();
+  r.nan_samples = f[4].cast<std::int64_t>();
+  r.denoise_seconds = f[5].cast<double>();
+  r.hair_segments = f[6].cast<int>();
+  r.body_primitives = f[7].cast<int>();
+  return r;
 }
 
 py::tuple SolutionState(const StrandSolution& s) {
@@ -457,6 +512,11 @@ void BindReprs(py::module_& m) {
            ", converged=" + std::to_string(s.converged) + ", unconverged=" +
            std::to_string(s.unconverged) + ", unstable=" + std::to_string(s.unstable) + ")";
   });
+  AddRepr<RenderStats>(m, "RenderStats", [](const RenderStats& r) {
+    return "RenderStats(seconds=" + Repr(r.seconds) + ", camera_rays=" +
+           std::to_string(r.camera_rays) + ", rays=" + std::to_string(r.rays) +
+           ", nan_samples=" + std::to_string(r.nan_samples) + ")";
+  });
   AddRepr<GroomResult>(m, "Groom", [](const GroomResult& g) {
     return "Groom(masters=" + std::to_string(g.groom.solutions.size()) + ", strands=" +
            std::to_string(g.groom.strands.point_counts.size()) + ", points=" +
@@ -480,6 +540,10 @@ void BindValues(py::module_& m) {
   AddPickle<SolvedStrand>(m, "StrandResult", ResultState, ResultFrom);
   AddPickle<HairCurves>(m, "HairCurves", CurvesState, CurvesFrom);
   AddPickle<GroomSummary>(m, "GroomSummary", GroomSummaryState, GroomSummaryFrom);
+  AddPickle<EnergyTerms>(m, "EnergyTerms", EnergyState, EnergyFrom);
+  AddPickle<ContactMeasure>(m, "ContactMeasure", ContactState, ContactFrom);
+  AddPickle<OperationReport>(m, "OperationReport", ReportState, ReportFrom);
+  AddPickle<RenderStats>(m, "RenderStats", RenderStatsState, RenderStatsFrom);
   // Shared, immutable values: a copy is the same object.
   auto hairstyle =
       py::reinterpret_borrow<py::class_<HairstyleFile, std::shared_ptr<HairstyleFile>>>(

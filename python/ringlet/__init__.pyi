@@ -10,6 +10,14 @@ __version__: str
 
 class ContactMeasure:
     """Contact at a configuration."""
+    def __copy__(self) -> ContactMeasure:
+        """A copy (deep: the copy owns its arrays)."""
+    def __deepcopy__(self, memo: dict) -> ContactMeasure:
+        """A deep copy."""
+    def __getstate__(self) -> tuple:
+        ...
+    def __setstate__(self, arg0: tuple) -> None:
+        ...
     @property
     def max_clearance_violation(self) -> float:
         """Largest depth into the clearance layer (m)."""
@@ -57,6 +65,14 @@ class CrossSection:
 
 class EnergyTerms:
     """Energy terms at a configuration (J)."""
+    def __copy__(self) -> EnergyTerms:
+        """A copy (deep: the copy owns its arrays)."""
+    def __deepcopy__(self, memo: dict) -> EnergyTerms:
+        """A deep copy."""
+    def __getstate__(self) -> tuple:
+        ...
+    def __setstate__(self, arg0: tuple) -> None:
+        ...
     @property
     def contact(self) -> float:
         """Contact penalty, section 3.1 (J)."""
@@ -90,8 +106,8 @@ class Groom:
     def layers(self) -> numpy.typing.NDArray[Any]:
         """Hull layer of each master: read-only view (M,) int32."""
     @property
-    def models(self) -> list:
-        """One StrandModel per master (do not change them: the groom is done)."""
+    def models(self) -> List[StrandModel]:
+        """One StrandModel per master: copies (the groom is done; its pickle rebuilds its masters from the hairstyle, so an edit could not travel with it)."""
     @property
     def root_positions(self) -> numpy.typing.NDArray[Any]:
         """Master roots on the scalp (m): read-only strided view (M, 3) float64."""
@@ -264,6 +280,14 @@ class Material:
 
 class OperationReport:
     """What one styling operation did."""
+    def __copy__(self) -> OperationReport:
+        """A copy (deep: the copy owns its arrays)."""
+    def __deepcopy__(self, memo: dict) -> OperationReport:
+        """A deep copy."""
+    def __getstate__(self) -> tuple:
+        ...
+    def __setstate__(self, arg0: tuple) -> None:
+        ...
     @property
     def iterations(self) -> int:
         """Minimizer iterations."""
@@ -288,6 +312,14 @@ class OperationReport:
 
 class RenderStats:
     """What a render did (render.h)."""
+    def __copy__(self) -> RenderStats:
+        """A copy (deep: the copy owns its arrays)."""
+    def __deepcopy__(self, memo: dict) -> RenderStats:
+        """A deep copy."""
+    def __getstate__(self) -> tuple:
+        ...
+    def __setstate__(self, arg0: tuple) -> None:
+        ...
     @property
     def body_primitives(self) -> int:
         """Spheres + triangles."""

@@ -99,6 +99,8 @@ def test_results_round_trip_bit_for_bit():
         assert back.material_frames.tobytes() == r.material_frames.tobytes()
         assert back.succeeded() == r.succeeded()
     round_trips(results[0].summary)
+    round_trips(results[0].summary.energy)
+    round_trips(results[0].summary.contact)
     round_trips(results)  # a list of them
 
 
@@ -132,6 +134,11 @@ def test_curves_hairstyles_and_grooms_round_trip_bit_for_bit(small_style, tmp_pa
         s.wet()
     assert bits(styled[0].strands()) == bits(styled[1].strands())
     assert bits(styled[0].solutions) == bits(styled[1].solutions)
+    round_trips(styled[0].curl(0.02, 0.03))  # an OperationReport
+    round_trips(groom.summary)
+    image, stats = ringlet.render(groom, width=4, height=4, samples_per_pixel=1, threads=1,
+                                  return_stats=True)
+    assert bits(round_trips(stats)) == bits(stats) and stats.camera_rays == 16
     # Styled hair carries wetness; it survives too.
     wet = styled[0].strands()
     assert wet.wetness.size == wet.num_strands() and wet.wetness.max() == 1.0
@@ -236,6 +243,7 @@ def test_reprs_say_what_the_value_is(small_style):
     assert repr(ringlet.StyledHair(groom, threads=1)) == "StyledHair(masters=12, wet=False)"
     assert repr(groom.hairstyle).startswith("Hairstyle(length=0.15, segments=8, seed=2, ")
     for value in (r.summary, r.summary.energy, r.summary.contact, groom.summary,
+                  ringlet.StyledHair(groom, threads=1).curl(0.02, 0.03),
                   groom.solutions[0], groom.models[0], ringlet.load_scene(str(SCENE))):
         assert not repr(value).startswith("<"), repr(value)
 
