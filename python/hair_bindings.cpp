@@ -570,11 +570,11 @@ void BindHair(py::module_& m) {
       .def(
           "curl",
           [](Styled& s, double radius, double pitch, py::object select) {
-            nlohmann::json fields = {{"pitch", pitch}};
+            nlohmann::json fields = {{"pitch", ToJson(py::float_(pitch), "curl.pitch")}};
             if (std::isinf(radius) && radius > 0) {
               fields["radius"] = "inf";
             } else {
-              fields["radius"] = radius;
+              fields["radius"] = ToJson(py::float_(radius), "curl.radius");  // NaN: an error
             }
             if (!select.is_none()) fields["select"] = ToJson(select, "curl.select");
             return RunJson(&s, {{"curl", fields}});

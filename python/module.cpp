@@ -59,7 +59,16 @@ nlohmann::json ToJsonAt(py::handle value, const std::string& where, int depth,
     }
     return value.cast<double>();  // beyond 64 bits: a (huge) number, rejected by range checks
   }
-  if (py::isinstance<py::float_>(value)) return value.cast<double>();
+  if (py::isinstance<py::float_>(value)) {
+    // A JSON file cannot hold NaN or infinity; nlohmann would keep the double, and the readers
+    // would quote it as null ("got null"). Said here instead, naming the field.
+    const double x = value.cast<double>();
+    if (!std::isfinite(x)) {
+      throw Error(where + ": expected a finite number (JSON has no NaN or infinity), got " +
+                  std::string(py::repr(value)));
+    }
+    return x;
+  }
   if (py::isinstance<py::str>(value)) return value.cast<std::string>();
   const bool is_dict = py::isinstance<py::dict>(value);
   if (is_dict || py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {

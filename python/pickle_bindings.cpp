@@ -298,6 +298,9 @@ SolvedStrand ResultFrom(const py::tuple& state) {
 }
 
 py::tuple CurvesState(const HairCurves& c) {
+  // Refused here rather than in the worker that unpickles it (the arrays are writable views).
+  std::string why;
+  if (!CheckHairCurves(c, "HairCurves", &why)) throw Error("pickling " + why);
   return State(Raw<std::uint32_t>(c.point_counts, 1), Raw<float>(c.points, 3),
                Raw<float>(c.widths, 1), Raw<float>(c.colors, 3), Raw<float>(c.major_axes, 3),
                Raw<float>(c.wetness, 1));

@@ -395,6 +395,28 @@ def test_helpers_in_range_are_unchanged():
     assert ringlet.CrossSection(2e-5, 2e-5).a == 2e-5
 
 
+def test_non_finite_numbers_in_dicts_and_keywords_are_named(small_style):
+    """JSON has no NaN or infinity: the readers used to quote them as "got null"."""
+    path, document = small_style
+    styled = ringlet.StyledHair(ringlet.groom(str(path), threads=1), threads=1)
+    nan = float("nan")
+    for call, message in [
+        (lambda: styled.curl(nan, 0.03), "curl.radius: expected a finite number (JSON has no "
+                                         "NaN or infinity), got nan"),
+        (lambda: styled.curl(0.01, float("-inf")), "curl.pitch: expected a finite number "
+                                                   "(JSON has no NaN or infinity), got -inf"),
+        (lambda: styled.wet(stiffness_factor=nan), "wet.stiffness_factor: expected a finite "
+                                                   "number (JSON has no NaN or infinity), got nan"),
+        (lambda: ringlet.parse_scene({"strands": [{"length": nan}]}),
+         "scene.strands[0].length: expected a finite number (JSON has no NaN or infinity), "
+         "got nan"),
+    ]:
+        with pytest.raises(ringlet.Error) as info:
+            call()
+        assert str(info.value) == message
+    styled.curl(float("inf"), 0.03)  # +inf radius: straighten, as "inf" in a file
+
+
 def test_scene_limits_of_the_reader_hold_for_python_scenes():
     """A scene made in Python gets the scene reader's limits: dense BFGS up to 1000 segments
     (the library used to switch to L-BFGS silently), 10^7 segments in all strands."""

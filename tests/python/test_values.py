@@ -189,6 +189,13 @@ def test_stale_or_foreign_states_are_refused():
         fresh.__setstate__(tuple(bad))
 
 
+def test_inconsistent_curves_are_refused_when_pickled():
+    curves = ringlet.HairCurves([[0, 0, 0], [0, 0, 0.01]], [2], [7e-5, 7e-5])
+    curves.point_counts[0] = 3  # edited in place: no longer matches the points
+    with pytest.raises(ringlet.Error, match="pickling HairCurves.points: expected 3 points"):
+        pickle.dumps(curves)
+
+
 def test_values_cross_spawned_processes(tmp_path):
     """multiprocessing with the spawn context (fresh interpreters: everything is pickled both
     ways): workers solve an unpickled scene, style an unpickled groom and return results that
