@@ -32,7 +32,7 @@ ARGUMENT_TYPES = [
     (re.compile(r"numpy\.ndarray\[[^\]]*\]\]|numpy\.ndarray\[[^\]]*\]"), "numpy.typing.ArrayLike"),
     (re.compile(r"\bnumpy\.ndarray\b"), "numpy.typing.ArrayLike"),
     (re.compile(r"\bobject\b"), "Any"),
-    (re.compile(r"\bhandle\b"), "Any"),
+    (re.compile(r"\bhandle\b"), "numpy.typing.ArrayLike"),  # the arrays read with numpy
 ]
 RESULT_TYPES = [
     (re.compile(r"numpy\.ndarray\[[^\]]*\]\]|numpy\.ndarray\[[^\]]*\]"), "numpy.typing.NDArray[Any]"),
@@ -76,16 +76,21 @@ def signature(doc, name, method):
             arguments.append(argument if ":" in argument else argument + ": Any")
             continue
         default = ""
+        optional = False
         if "=" in argument:
-            argument, _ = argument.split("=", 1)
+            argument, value = argument.split("=", 1)
             default = " = ..."
+            optional = value.strip() == "None"
             argument = argument.strip()
         if ":" in argument:
             arg_name, arg_type = argument.split(":", 1)
             if method and not arguments and arg_name.strip() == "self":
                 arguments.append("self")
                 continue
-            arguments.append("%s: %s%s" % (arg_name.strip(), plain(arg_type.strip(), ARGUMENT_TYPES), default))
+            arg_type = plain(arg_type.strip(), ARGUMENT_TYPES)
+            if optional and arg_type != "Any" and not arg_type.startswith("Optional["):
+                arg_type = "Optional[%s]" % arg_type
+            arguments.append("%s: %s%s" % (arg_name.strip(), arg_type, default))
         else:
             arguments.append(argument + default)
     if method and (not arguments or arguments[0] != "self"):

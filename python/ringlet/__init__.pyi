@@ -191,7 +191,7 @@ class HairCurves:
         """A deep copy."""
     def __getstate__(self) -> tuple:
         ...
-    def __init__(self, points: Any, point_counts: Any, widths: Any, colors: Any = ..., major_axes: Any = ..., wetness: Any = ...) -> None:
+    def __init__(self, points: numpy.typing.ArrayLike, point_counts: numpy.typing.ArrayLike, widths: numpy.typing.ArrayLike, colors: Optional[numpy.typing.ArrayLike] = ..., major_axes: Optional[numpy.typing.ArrayLike] = ..., wetness: Optional[numpy.typing.ArrayLike] = ...) -> None:
         """Curves from arrays (copied as float32/uint32): points (K, 3) (m), point_counts (N,), widths (K,) fibre diameters (m), optional colors (N, 3) linear RGB in [0, 1], major_axes (K, 3) unit vectors and wetness (N,) in [0, 1]. Checked (CheckHairCurves; colours in [0, 1], axes finite and non-zero); point counts must be integers (2.5 or 2**32 + 2 are errors, never rounded or wrapped)."""
     def __setstate__(self, arg0: tuple) -> None:
         ...
@@ -350,7 +350,7 @@ class Scene:
         """A deep copy."""
     def __getstate__(self) -> tuple:
         ...
-    def __init__(self, strands: List[StrandModel], solver: SolveOptions = ...) -> None:
+    def __init__(self, strands: List[StrandModel], solver: Optional[SolveOptions] = ...) -> None:
         ...
     def __setstate__(self, arg0: tuple) -> None:
         ...
@@ -593,7 +593,7 @@ def decode_usc_data(data: bytes, units_per_metre: float = ..., up: str = ..., de
 def encode_hair_file(curves: HairCurves, units_per_metre: float = ..., info: Optional[str] = ..., store_thickness: bool = ..., store_colors: bool = ...) -> bytes:
     """The bytes of the .hair file write_hair_file writes."""
 
-def encode_srgb8(image: Any, exposure: float = ...) -> numpy.typing.NDArray[Any]:
+def encode_srgb8(image: numpy.typing.ArrayLike, exposure: float = ...) -> numpy.typing.NDArray[Any]:
     """Linear (H, W, 3) radiance -> the uint8 sRGB codes of its PNG (times exposure, clamped to [0, 1], IEC 61966-2-1)."""
 
 def encode_usc_data(curves: HairCurves, units_per_metre: float = ..., up: str = ...) -> bytes:
@@ -635,7 +635,7 @@ def section_from_eccentricity(mean_radius: float, eccentricity: float) -> CrossS
 def section_from_ellipticity(mean_radius: float, ellipticity: float) -> CrossSection:
     """Section of mean radius sqrt(a b) (m, > 0) and ellipticity a/b >= 1."""
 
-def solve(scene: Any, options: SolveOptions = ..., points_per_segment: int = ..., threads: int = ...) -> List[StrandResult]:
+def solve(scene: Any, options: Optional[SolveOptions] = ..., points_per_segment: int = ..., threads: int = ...) -> List[StrandResult]:
     """Solves every strand (SolveStrands, then MakeStrandResults as `ringlet solve` does). scene: a Scene, a scene dict (docs/scene-format.md), a path to a scene file, a StrandModel or a list of them. options: SolveOptions (default: the scene's "solver", else SolveOptions()). points_per_segment k >= 1: centreline samples per segment. threads: 0 = all cores (results do not depend on it). Returns a list of StrandResult. Releases the GIL; Ctrl-C stops it (KeyboardInterrupt)."""
 
 def uniform_segments(length: float, segments: int) -> List[float]:
@@ -647,7 +647,7 @@ def write_hair_file(path: str, curves: HairCurves, units_per_metre: float = ...,
 def write_obj(path: str, curves: HairCurves, overwrite: bool = ...) -> None:
     """Writes OBJ polylines (metres, z up; obj_export.h), atomically."""
 
-def write_png(path: str, image: Any, exposure: float = ..., overwrite: bool = ...) -> None:
+def write_png(path: str, image: numpy.typing.ArrayLike, exposure: float = ..., overwrite: bool = ...) -> None:
     """Writes linear (H, W, 3) radiance as an 8-bit sRGB PNG, atomically (png_image.h)."""
 
 def write_usc_data(path: str, curves: HairCurves, units_per_metre: float = ..., up: str = ..., overwrite: bool = ...) -> None:
