@@ -479,7 +479,9 @@ def test_one_styling_operation_at_a_time(small_style):
     worker = threading.Thread(target=grow)
     worker.start()
     refused = None
+    attempts = 0
     while worker.is_alive() and refused is None:
+        attempts += 1
         try:
             styled.dry()  # on a dry head: refused by Dry itself when nothing else runs
         except ringlet.Error as e:
@@ -488,7 +490,8 @@ def test_one_styling_operation_at_a_time(small_style):
             else:
                 assert str(e) == "dry: the hair is not wet (wet it first)", str(e)
     worker.join()
-    if refused is None:
+    if refused is None and attempts < 20:
         pytest.skip("the grow finished before a second operation could start")
+    assert refused is not None, "%d operations ran while the grow did" % attempts
     assert refused == busy
     assert len(styled.solutions[0].curvatures) > 8  # the grow itself went through
