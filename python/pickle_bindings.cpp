@@ -398,6 +398,12 @@ std::unique_ptr<GroomResult> GroomFrom(const py::tuple& state) {
   if (g->groom.solutions.size() != g->groom.masters.models.size()) {
     throw Error("unpickling Groom: expected one solution per master");
   }
+  for (size_t i = 0; i < g->groom.solutions.size(); ++i) {
+    if (g->groom.solutions[i].curvatures.size() != 3 * g->groom.masters.models[i].NumSegments()) {
+      throw Error("unpickling Groom: solutions[" + std::to_string(i) +
+                  "]: expected 3 curvatures per segment of its master");
+    }
+  }
   g->groom.strands = CurvesFrom(f[2]);
   g->groom.summary = GroomSummaryFrom(f[3]);
   return g;
