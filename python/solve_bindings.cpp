@@ -138,8 +138,22 @@ void BindSolve(py::module_& m) {
            py::arg("a"), py::arg("b"),
            "Section of semi-axes a (major, along n1) and b (minor) in metres: finite, "
            "a >= b > 0, else ringlet.Error.")
-      .def_readwrite("a", &CrossSection::a, "Major semi-axis, along n1 (m).")
-      .def_readwrite("b", &CrossSection::b, "Minor semi-axis, along n2 (m).")
+      // Each semi-axis is checked alone when set (a >= b waits for the solve's IsValid: one
+      // of the two is set first).
+      .def_property(
+          "a", [](const CrossSection& s) { return s.a; },
+          [](CrossSection& s, double a) {
+            RequireNumber(a > 0.0, a, "a", kPositiveMetres);
+            s.a = a;
+          },
+          "Major semi-axis, along n1 (m, finite > 0).")
+      .def_property(
+          "b", [](const CrossSection& s) { return s.b; },
+          [](CrossSection& s, double b) {
+            RequireNumber(b > 0.0, b, "b", kPositiveMetres);
+            s.b = b;
+          },
+          "Minor semi-axis, along n2 (m, finite > 0).")
       .def("area", &CrossSection::Area, "Area pi a b (m^2).")
       .def("i1", &CrossSection::I1, "Second moment about n1, pi a b^3 / 4 (m^4): the soft one.")
       .def("i2", &CrossSection::I2, "Second moment about n2, pi a^3 b / 4 (m^4).")
@@ -191,10 +205,34 @@ void BindSolve(py::module_& m) {
            }),
            py::arg("young_modulus") = 10e9, py::arg("poisson_ratio") = 0.3,
            py::arg("density") = 1300.0)
-      .def_readwrite("young_modulus", &Material::young_modulus, "Young's modulus E (Pa).")
-      .def_readwrite("poisson_ratio", &Material::poisson_ratio,
-                     "Poisson's ratio (dimensionless), in (-1, 0.5].")
-      .def_readwrite("density", &Material::density, "Volumic mass rho (kg/m^3).")
+      // Each field is checked when set, as the constructor checks it.
+      .def_property(
+          "young_modulus", [](const Material& material) { return material.young_modulus; },
+          [](Material& material, double value) {
+            Material changed = material;
+            changed.young_modulus = value;
+            CheckMaterial(changed);
+            material = changed;
+          },
+          "Young's modulus E (Pa, finite > 0).")
+      .def_property(
+          "poisson_ratio", [](const Material& material) { return material.poisson_ratio; },
+          [](Material& material, double value) {
+            Material changed = material;
+            changed.poisson_ratio = value;
+            CheckMaterial(changed);
+            material = changed;
+          },
+          "Poisson's ratio (dimensionless), in (-1, 0.5].")
+      .def_property(
+          "density", [](const Material& material) { return material.density; },
+          [](Material& material, double value) {
+            Material changed = material;
+            changed.density = value;
+            CheckMaterial(changed);
+            material = changed;
+          },
+          "Volumic mass rho (kg/m^3, finite >= 0).")
       .def("shear_modulus", &Material::ShearModulus, "E / (2 (1 + sigma)) (Pa).");
 
   py::class_<StrandModel>(

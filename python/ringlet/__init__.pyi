@@ -42,14 +42,14 @@ class CrossSection:
         ...
     @property
     def a(self) -> float:
-        """Major semi-axis, along n1 (m)."""
+        """Major semi-axis, along n1 (m, finite > 0)."""
     @a.setter
     def a(self, value: float) -> None: ...
     def area(self) -> float:
         """Area pi a b (m^2)."""
     @property
     def b(self) -> float:
-        """Minor semi-axis, along n2 (m)."""
+        """Minor semi-axis, along n2 (m, finite > 0)."""
     @b.setter
     def b(self, value: float) -> None: ...
     def eccentricity(self) -> float:
@@ -262,7 +262,7 @@ class Material:
         ...
     @property
     def density(self) -> float:
-        """Volumic mass rho (kg/m^3)."""
+        """Volumic mass rho (kg/m^3, finite >= 0)."""
     @density.setter
     def density(self, value: float) -> None: ...
     @property
@@ -274,7 +274,7 @@ class Material:
         """E / (2 (1 + sigma)) (Pa)."""
     @property
     def young_modulus(self) -> float:
-        """Young's modulus E (Pa)."""
+        """Young's modulus E (Pa, finite > 0)."""
     @young_modulus.setter
     def young_modulus(self, value: float) -> None: ...
 

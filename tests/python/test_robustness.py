@@ -386,6 +386,27 @@ def test_helpers_check_what_the_scene_reader_checks():
         assert str(info.value).startswith(field + ": "), str(info.value)
 
 
+def test_section_and_material_fields_are_checked_when_set():
+    section, material = ringlet.CrossSection(5e-5, 4e-5), ringlet.Material()
+    for obj, field, value, message in [
+        (section, "a", float("nan"), "a: expected a finite number > 0 (metres), got nan"),
+        (section, "b", -1e-5, "b: expected a finite number > 0 (metres), got -1e-05"),
+        (material, "young_modulus", 0.0, "young_modulus: expected a finite number > 0 "
+                                          "(pascals), got 0.0"),
+        (material, "poisson_ratio", 0.5000001, "poisson_ratio: expected a finite number in "
+                                               "(-1, 0.5], got 0.5000001"),
+        (material, "density", float("inf"), "density: expected a finite number >= 0 (kg/m^3), "
+                                            "got inf"),
+    ]:
+        with pytest.raises(ringlet.Error) as info:
+            setattr(obj, field, value)
+        assert str(info.value) == message
+    assert (section.a, section.b) == (5e-5, 4e-5) and material.density == 1300.0
+    material.density = 0.0  # in range: set
+    section.b = 4.5e-5
+    assert material.density == 0.0 and section.b == 4.5e-5
+
+
 def test_helpers_in_range_are_unchanged():
     s = ringlet.section_from_eccentricity(5e-5, 0.5)
     assert s.a * s.b == pytest.approx(25e-10, rel=1e-15) and s.a > s.b
