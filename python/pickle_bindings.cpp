@@ -480,7 +480,7 @@ void BindReprs(py::module_& m) {
            (s.contact.obstacle ? ", contact=True" : "") + ")";
   });
   AddRepr<Scene>(m, "Scene", [](const Scene& s) {
-    return "Scene(" + std::to_string(s.strands.size()) + " strands, solver=" +
+    return "Scene(strands=" + std::to_string(s.strands.size()) + ", solver=" +
            OptionsRepr(s.solver) + ")";
   });
   AddRepr<EnergyTerms>(m, "EnergyTerms", [](const EnergyTerms& e) {

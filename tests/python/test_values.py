@@ -178,6 +178,14 @@ def test_copies_are_independent():
     assert curves.points[0, 0] == 0.0
 
 
+def test_errors_cross_processes():
+    with pytest.raises(ringlet.Error) as info:
+        ringlet.uniform_segments(-1.0, 3)
+    back = pickle.loads(pickle.dumps(info.value))
+    assert type(back) is ringlet.Error and str(back) == str(info.value)
+    assert repr(ringlet.load_scene(str(SCENE))).startswith("Scene(strands=1, solver=SolveOptions(")
+
+
 def test_stale_or_foreign_states_are_refused():
     fresh = ringlet.StrandModel.__new__(ringlet.StrandModel)
     with pytest.raises(ringlet.Error, match="expected a state of version 1"):
