@@ -233,10 +233,7 @@ py::list References(std::vector<T>& items, py::handle owner) {
   return list;
 }
 
-}  // namespace
-
-namespace {
-
+// The absolute, normalized form of a directory ("" is the working directory).
 std::string AbsoluteDirectory(const std::string& directory) {
   std::error_code ignored;
   const std::filesystem::path absolute =
