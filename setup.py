@@ -46,6 +46,8 @@ class CMakeBuild(build_ext):
 setup(
     packages=["ringlet"],
     package_dir={"ringlet": "python/ringlet"},
+    # The type stubs and the PEP 561 marker: IDEs and type checkers see the API's types.
+    package_data={"ringlet": ["__init__.pyi", "py.typed"]},
     ext_modules=[Extension("ringlet._ringlet", sources=[])],
     cmdclass={"build_ext": CMakeBuild},
 )

@@ -23,6 +23,17 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
 
+/// The most worker threads a call may ask for: the commands' --threads limit (CLI::Range(0,
+/// 1024) in cli/*_command.cpp). TBB's arena with 10^5 threads crashed the interpreter.
+inline constexpr int kMaxThreads = 1024;
+
+/// Raises ringlet.Error unless 0 <= threads <= kMaxThreads ("threads: expected ...").
+void CheckThreads(long long threads);
+
+/// Raises ringlet.Error "field: expected EXPECTED, got VALUE" (the file readers' wording, value
+/// as Python prints it) unless ok and value is finite.
+void RequireNumber(bool ok, double value, const std::string& field, const char* expected);
+
 /// Registers ringlet.Error (a subclass of ValueError and RuntimeError) and its translator.
 void RegisterError(py::module_& m);
 
@@ -70,5 +81,7 @@ void BindSolve(py::module_& m);
 void BindHair(py::module_& m);
 void BindRender(py::module_& m);
 void BindInverse(py::module_& m);  // after BindSolve (it extends StrandModel)
+/// Pickling, copy.copy/deepcopy and repr of the values (after the others: extends their classes).
+void BindValues(py::module_& m);
 
 }  // namespace ringlet::python

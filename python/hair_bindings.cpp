@@ -7,13 +7,19 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <map>
+#include <mutex>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "bindings.h"
+#include "io/json_reader.h"
+#include "ringlet/atomic_file.h"
 #include "ringlet/hair_curves.h"
 #include "ringlet/hair_file.h"
 #include "ringlet/strand_targets.h"
@@ -35,6 +41,9 @@ struct Styled {
   std::shared_ptr<const HairstyleFile> hairstyle;
   StyledHair state;
   int threads = 0;
+  /// An operation is running (on a worker, the GIL released): a second one started from
+  /// another Python thread would work on the same old state and one result would be lost.
+  bool busy = false;
 };
 
 // A float32 (count, 3) view of Vec3f storage (empty storage gives shape (0, 3)).
@@ -43,17 +52,102 @@ py::array Vec3fView(std::vector<Vec3f>& v, py::handle owner) {
               {sizeof(Vec3f), sizeof(float)}, owner, true);
 }
 
-// Copies an (n, 3) array-like into Vec3f storage; None gives an empty vector.
+// value as a numpy array of real numbers (integers or floats; not bool, complex, strings or
+// objects, which numpy's casts would turn into numbers silently).
+py::array RealArray(const py::handle& value, const std::string& field, const char* expected) {
+  py::array a = py::module_::import("numpy").attr("asarray")(value);
+  const char kind = a.dtype().kind();
+  if (kind != 'i' && kind != 'u' && kind != 'f') {
+    throw Error(field + ": expected " + expected + ", got an array of dtype " +
+                std::string(py::str(a.dtype())));
+  }
+  return a;
+}
+
+// Copies an (n, 3) array of real numbers into Vec3f storage; None gives an empty vector.
 std::vector<Vec3f> ToVec3f(const py::handle& value, const char* field) {
   std::vector<Vec3f> out;
   if (value.is_none()) return out;
-  auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(value);
+  auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(
+      RealArray(value, field, "an array of shape (n, 3)"));
   if (!a || a.ndim() != 2 || a.shape(1) != 3) {
     throw Error(std::string(field) + ": expected an array of shape (n, 3)");
   }
   out.resize(static_cast<size_t>(a.shape(0)));
   if (!out.empty()) std::memcpy(out[0].data(), a.data(), out.size() * sizeof(Vec3f));
   return out;
+}
+
+// Copies a 1-D array of real numbers into float storage; None gives an empty vector.
+std::vector<float> ToFloats(const py::handle& value, const char* field, const char* expected) {
+  std::vector<float> out;
+  if (value.is_none()) return out;
+  auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(
+      RealArray(value, field, expected));
+  if (!a || a.ndim() != 1) throw Error(std::string(field) + ": expected " + expected);
+  out.assign(a.data(), a.data() + a.shape(0));
+  return out;
+}
+
+// The point counts of a 1-D array of integers, each in [2, 2^32 - 1] (the uint32 of .hair
+// files and HairCurves); integral floats are taken below 2^31, as the JSON readers take "15.0"
+// (kMaxFloatInteger). numpy's cast used to turn 2^32 + 2 into 2 and 2.5 into 2.
+std::vector<std::uint32_t> ToPointCounts(const py::handle& value) {
+  const char* expected = "a 1-D array of integers >= 2";
+  py::array a = RealArray(value, "point_counts", expected);
+  if (a.ndim() != 1) throw Error(std::string("point_counts: ") + expected);
+  std::vector<std::uint32_t> out(static_cast<size_t>(a.shape(0)));
+  const auto bad = [](size_t k, const std::string& got) {
+    return Error("point_counts[" + std::to_string(k) + "]: expected an integer in [2, " +
+                 std::to_string(UINT32_MAX) + "], got " + got);
+  };
+  const char kind = a.dtype().kind();
+  if (kind == 'u') {
+    auto u = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(a);
+    for (size_t k = 0; k < out.size(); ++k) {
+      const std::uint64_t v = u.data()[k];
+      if (v < 2 || v > UINT32_MAX) throw bad(k, std::to_string(v));
+      out[k] = static_cast<std::uint32_t>(v);
+    }
+  } else if (kind == 'i') {
+    auto i = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
+    for (size_t k = 0; k < out.size(); ++k) {
+      const std::int64_t v = i.data()[k];
+      if (v < 2 || v > std::int64_t{UINT32_MAX}) throw bad(k, std::to_string(v));
+      out[k] = static_cast<std::uint32_t>(v);
+    }
+  } else {
+    auto f = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
+    for (size_t k = 0; k < out.size(); ++k) {
+      const double v = f.data()[k];
+      if (!(v >= 2.0 && v < internal::kMaxFloatInteger && v == std::floor(v))) {
+        throw bad(k, std::string(py::repr(py::float_(v))));
+      }
+      out[k] = static_cast<std::uint32_t>(v);
+    }
+  }
+  return out;
+}
+
+// What the HairCurves constructor checks beyond CheckHairCurves (the doc's promises, as the
+// strand readers check them, strand_targets.cpp): colours in [0, 1], major axes non-zero.
+void CheckCurveAttributes(const HairCurves& c) {
+  for (size_t k = 0; k < c.colors.size(); ++k) {
+    for (int i = 0; i < 3; ++i) {
+      if (!(c.colors[k][i] >= 0.0f && c.colors[k][i] <= 1.0f)) {
+        throw Error("colors[" + std::to_string(k) + "]: expected linear RGB in [0, 1], got " +
+                    std::string(py::repr(py::make_tuple(c.colors[k][0], c.colors[k][1],
+                                                         c.colors[k][2]))));
+      }
+    }
+  }
+  for (size_t k = 0; k < c.major_axes.size(); ++k) {
+    if (!c.major_axes[k].allFinite() || !(c.major_axes[k].squaredNorm() > 0.0f)) {
+      throw Error("major_axes[" + std::to_string(k) + "]: expected a finite, non-zero major "
+                  "axis, got " + std::string(py::repr(py::make_tuple(
+                      c.major_axes[k][0], c.major_axes[k][1], c.major_axes[k][2]))));
+    }
+  }
 }
 
 // "operations[0].cut.z: ..." -> "cut.z: ..." (the operation came from a method, not a list).
@@ -65,6 +159,15 @@ std::string WithoutListPrefix(const std::string& message) {
 // Runs one operation on a copy of the state (a cancelled operation leaves its state partly
 // edited, styling.h) and keeps the copy only when it succeeded.
 OperationReport Run(Styled* styled, const StyleOperation& operation) {
+  if (styled->busy) {
+    throw Error("StyledHair: expected one operation at a time, got another while one is "
+                "running (from another thread)");
+  }
+  styled->busy = true;
+  struct Done {
+    bool* busy;
+    ~Done() { *busy = false; }
+  } done{&styled->busy};
   StyledHair copy = styled->state;
   OperationReport report;
   std::string error;
@@ -130,6 +233,14 @@ py::list References(std::vector<T>& items, py::handle owner) {
   return list;
 }
 
+// The absolute, normalized form of a directory ("" is the working directory).
+std::string AbsoluteDirectory(const std::string& directory) {
+  std::error_code ignored;
+  const std::filesystem::path absolute =
+      std::filesystem::absolute(directory.empty() ? "." : directory, ignored);
+  return absolute.lexically_normal().string();
+}
+
 }  // namespace
 
 std::shared_ptr<const HairstyleFile> HairstyleFrom(py::handle hairstyle,
@@ -146,17 +257,53 @@ std::shared_ptr<const HairstyleFile> HairstyleFrom(py::handle hairstyle,
         !ParseRenderMember(document, &file->render, &error)) {
       throw Error(error);
     }
+    file->document_text = document.dump();  // numbers as the shortest text that reads back
+    file->base_directory = AbsoluteDirectory(base_directory);
     return file;
   }
   if (py::isinstance<py::str>(hairstyle) || py::hasattr(hairstyle, "__fspath__")) {
     const std::string path = py::str(py::module_::import("os").attr("fspath")(hairstyle));
     if (!LoadHairstyle(path, &file->style, &file->operations, &error) ||
-        !LoadRenderSettings(path, &file->render, &error)) {
+        !LoadRenderSettings(path, &file->render, &error) ||
+        !ReadFile(path, &file->document_text, &error)) {
       throw Error(error);
     }
+    file->base_directory =
+        AbsoluteDirectory(std::filesystem::path(path).parent_path().string());
     return file;
   }
   throw Error("hairstyle: expected a Hairstyle, a hairstyle dict or a path to a hairstyle file");
+}
+
+std::shared_ptr<const HairstyleFile> HairstyleFromText(const std::string& text,
+                                                       const std::string& base_directory) {
+  // Parsing a hairstyle reads its body (3.5 s for the mannequin of examples/hairstyles/wavy.json);
+  // a worker unpickling one Groom per task would pay it every time. Hairstyles are immutable,
+  // so the ones still alive in this process are shared, keyed by what they were parsed from.
+  static std::mutex mutex;
+  static std::map<std::pair<std::string, std::string>, std::weak_ptr<const HairstyleFile>> alive;
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto key = std::make_pair(text, base_directory);
+  if (const auto it = alive.find(key); it != alive.end()) {
+    if (auto shared = it->second.lock()) return shared;
+    alive.erase(it);
+  }
+  for (auto it = alive.begin(); it != alive.end();) {  // forget the dead ones
+    it = it->second.expired() ? alive.erase(it) : std::next(it);
+  }
+  auto file = std::make_shared<HairstyleFile>();
+  nlohmann::json document;
+  std::string error;
+  if (!internal::ParseJsonText(text, &document, &error) ||
+      !ParseHairstyle(document, base_directory, &file->style, &error) ||
+      !ParseStyleOperations(document, &file->operations, &error) ||
+      !ParseRenderMember(document, &file->render, &error)) {
+    throw Error("Hairstyle (unpickling, relative paths from " + base_directory + "): " + error);
+  }
+  file->document_text = text;
+  file->base_directory = base_directory;
+  alive[key] = file;
+  return file;
 }
 
 void BindHair(py::module_& m) {
@@ -166,31 +313,28 @@ void BindHair(py::module_& m) {
       "BasisCurves: strand k has point_counts[k] >= 2 consecutive points. The arrays are "
       "writable numpy views of the curves (edit in place; their sizes are fixed).")
       .def(py::init([](py::handle points, py::handle point_counts, py::handle widths,
-                       py::handle colors, py::handle major_axes) {
+                       py::handle colors, py::handle major_axes, py::handle wetness) {
              HairCurves curves;
              curves.points = ToVec3f(points, "points");
-             auto counts =
-                 py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(
-                     point_counts);
-             if (!counts || counts.ndim() != 1) {
-               throw Error("point_counts: expected a 1-D array of integers >= 2");
-             }
-             curves.point_counts.assign(counts.data(), counts.data() + counts.shape(0));
+             curves.point_counts = ToPointCounts(point_counts);
              if (widths.is_none()) throw Error("widths: required, one diameter per point (m)");
-             auto w = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(widths);
-             if (!w || w.ndim() != 1) throw Error("widths: expected a 1-D array (m)");
-             curves.widths.assign(w.data(), w.data() + w.shape(0));
+             curves.widths = ToFloats(widths, "widths", "a 1-D array (m)");
              curves.colors = ToVec3f(colors, "colors");
              curves.major_axes = ToVec3f(major_axes, "major_axes");
+             curves.wetness = ToFloats(wetness, "wetness", "a 1-D array, one value per strand");
              std::string why;
              if (!CheckHairCurves(curves, "curves", &why)) throw Error(why);
+             CheckCurveAttributes(curves);
              return curves;
            }),
            py::arg("points"), py::arg("point_counts"), py::arg("widths"),
            py::arg("colors") = py::none(), py::arg("major_axes") = py::none(),
+           py::arg("wetness") = py::none(),
            "Curves from arrays (copied as float32/uint32): points (K, 3) (m), point_counts (N,), "
-           "widths (K,) fibre diameters (m), optional colors (N, 3) linear RGB in [0, 1] and "
-           "major_axes (K, 3) unit vectors. Checked (CheckHairCurves).")
+           "widths (K,) fibre diameters (m), optional colors (N, 3) linear RGB in [0, 1], "
+           "major_axes (K, 3) unit vectors and wetness (N,) in [0, 1]. Checked "
+           "(CheckHairCurves; colours in [0, 1], axes finite and non-zero); point counts must "
+           "be integers (2.5 or 2**32 + 2 are errors, never rounded or wrapped).")
       .def_property_readonly(
           "points", [](py::object self) { return Vec3fView(self.cast<HairCurves&>().points, self); },
           "Centreline points root to tip, strand after strand (m, world, z up): view (K, 3) "
@@ -219,6 +363,15 @@ void BindHair(py::module_& m) {
           [](py::object self) { return Vec3fView(self.cast<HairCurves&>().major_axes, self); },
           "Per-point unit direction of the section's major axis (the material frame's n1, "
           "world): view (K, 3) float32, or (0, 3) when absent.")
+      .def_property_readonly(
+          "wetness",
+          [](py::object self) {
+            auto& w = self.cast<HairCurves&>().wetness;
+            return View(w.data(), {static_cast<py::ssize_t>(w.size())}, {sizeof(float)}, self,
+                        true);
+          },
+          "Per-strand wetness in [0, 1] (the fraction of the fibre under a water film; the "
+          "styled strands of wet masters have 1): view (N,) float32, or (0,) when all dry.")
       .def(
           "offsets",
           [](const HairCurves& c) {
@@ -239,11 +392,7 @@ void BindHair(py::module_& m) {
             std::string why;
             if (!CheckHairCurves(c, "curves", &why)) throw Error(why);
           },
-          "Raises ringlet.Error naming the first inconsistency (CheckHairCurves).")
-      .def("__repr__", [](const HairCurves& c) {
-        return "HairCurves(" + std::to_string(c.NumStrands()) + " strands, " +
-               std::to_string(c.NumPoints()) + " points)";
-      });
+          "Raises ringlet.Error naming the first inconsistency (CheckHairCurves).");
 
   py::class_<HairstyleFile, std::shared_ptr<HairstyleFile>>(
       m, "Hairstyle",
@@ -321,11 +470,9 @@ void BindHair(py::module_& m) {
           [](py::object self) { return References(self.cast<GroomResult&>().groom.solutions, self); },
           "One StrandSolution per master.")
       .def_property_readonly(
-          "models",
-          [](py::object self) {
-            return References(self.cast<GroomResult&>().groom.masters.models, self);
-          },
-          "One StrandModel per master (do not change them: the groom is done).")
+          "models", [](const GroomResult& g) { return g.groom.masters.models; },
+          "One StrandModel per master: copies (the groom is done; its pickle rebuilds its "
+          "masters from the hairstyle, so an edit could not travel with it).")
       .def_property_readonly(
           "root_positions",
           [](py::object self) {
@@ -355,17 +502,17 @@ void BindHair(py::module_& m) {
           "The Hairstyle it was groomed from.");
   m.def(
       "groom",
-      [](py::object hairstyle, int threads, const std::string& base_directory) {
+      [](py::object hairstyle, long long threads, const std::string& base_directory) {
         auto result = std::make_unique<GroomResult>();
         result->hairstyle = HairstyleFrom(hairstyle, base_directory);
-        if (threads < 0) throw Error("threads: expected >= 0, got " + std::to_string(threads));
+        CheckThreads(threads);
         std::string error;
         bool ok = false;
         std::atomic<bool> cancel{false};
         RunInterruptibly(
             [&] {
               BatchOptions batch;
-              batch.threads = threads;
+              batch.threads = static_cast<int>(threads);
               batch.cancel = &cancel;
               ok = GroomHairstyle(result->hairstyle->style, batch, &result->groom, &error);
             },
@@ -390,7 +537,13 @@ void BindHair(py::module_& m) {
       .def_readonly("unconverged", &OperationReport::unconverged,
                     "Masters whose re-solve did not converge (kept, reported).")
       .def_readonly("rounds", &OperationReport::rounds, "Re-solve rounds.")
-      .def_readonly("message", &OperationReport::message, "One human line.");
+      .def_readonly("message", &OperationReport::message, "One human line.")
+      .def("__repr__", [](const OperationReport& r) {
+        return "OperationReport(name=" + std::string(py::repr(py::str(r.name))) +
+               ", strands=" + std::to_string(r.strands) + ", iterations=" +
+               std::to_string(r.iterations) + ", unconverged=" + std::to_string(r.unconverged) +
+               ", message=" + std::string(py::repr(py::str(r.message))) + ")";
+      });
 
   py::class_<Styled>(
       m, "StyledHair",
@@ -399,10 +552,11 @@ void BindHair(py::module_& m) {
       "arguments are the fields of the operation in docs/hairstyle-format.md (\"operations\"), "
       "checked with the same messages. A failed or interrupted operation leaves the hair as it "
       "was. Operations release the GIL; Ctrl-C stops them (KeyboardInterrupt).")
-      .def(py::init([](const GroomResult& groom, int threads) {
+      .def(py::init([](const GroomResult& groom, long long threads) {
+             CheckThreads(threads);
              Styled styled;
              styled.hairstyle = groom.hairstyle;
-             styled.threads = threads;
+             styled.threads = static_cast<int>(threads);
              std::string error;
              if (!MakeStyledHair(groom.hairstyle->style, groom.groom, &styled.state, &error)) {
                throw Error(error);
@@ -431,11 +585,11 @@ void BindHair(py::module_& m) {
       .def(
           "curl",
           [](Styled& s, double radius, double pitch, py::object select) {
-            nlohmann::json fields = {{"pitch", pitch}};
+            nlohmann::json fields = {{"pitch", ToJson(py::float_(pitch), "curl.pitch")}};
             if (std::isinf(radius) && radius > 0) {
               fields["radius"] = "inf";
             } else {
-              fields["radius"] = radius;
+              fields["radius"] = ToJson(py::float_(radius), "curl.radius");  // NaN: an error
             }
             if (!select.is_none()) fields["select"] = ToJson(select, "curl.select");
             return RunJson(&s, {{"curl", fields}});
@@ -473,16 +627,20 @@ void BindHair(py::module_& m) {
       .def_property_readonly(
           "wet_state", [](const Styled& s) { return s.state.wet; }, "True between wet and dry.")
       .def_property_readonly(
-          "solutions", [](py::object self) { return References(self.cast<Styled&>().state.solutions, self); },
-          "One StrandSolution per master, the current equilibria (valid until the next "
-          "operation).")
+          "solutions", [](const Styled& s) { return s.state.solutions; },
+          "One StrandSolution per master, the current equilibria: copies (every operation "
+          "replaces the state; a kept copy stays as it was).")
       .def_property_readonly(
-          "models",
-          [](py::object self) { return References(self.cast<Styled&>().state.masters.models, self); },
-          "One StrandModel per master, as edited (valid until the next operation).")
+          "models", [](const Styled& s) { return s.state.masters.models; },
+          "One StrandModel per master, as edited: copies (editing them does not change the "
+          "styled hair; a kept copy stays as it was).")
       .def_property_readonly(
           "hairstyle", [](const Styled& s) { return std::const_pointer_cast<HairstyleFile>(s.hairstyle); },
-          "The Hairstyle it came from.");
+          "The Hairstyle it came from.")
+      .def("__repr__", [](const Styled& s) {
+        return "StyledHair(masters=" + std::to_string(s.state.solutions.size()) +
+               ", wet=" + (s.state.wet ? "True" : "False") + ")";
+      });
 
   // Readers and writers, one function each, named as their C++ function.
   m.def("read_hair_file", &ReadHair, py::arg("path"), py::arg("units_per_metre") = 1.0,

@@ -140,9 +140,7 @@ void BindInverse(py::module_& m) {
       [](py::handle targets, py::object body, const std::string& hair_type, double clearance,
          int segments, double fit_tolerance, bool support_forces, int threads,
          py::object progress) {
-        if (threads < 0 || threads > 1024) {
-          throw Error("threads: expected 0 (all cores) to 1024, got " + std::to_string(threads));
-        }
+        CheckThreads(threads);
         if (!(std::isfinite(clearance) && clearance >= 0.0 && clearance < 0.1)) {
           throw Error("clearance: expected a finite number in [0, 0.1) (m)");
         }

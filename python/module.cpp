@@ -4,12 +4,14 @@
 #include <Python.h>
 
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <exception>
 #include <mutex>
 #include <thread>
 
 #include "bindings.h"
+#include "io/json_reader.h"
 
 namespace ringlet::python {
 
@@ -38,7 +40,12 @@ void RegisterError(py::module_& m) {
   });
 }
 
-nlohmann::json ToJson(py::handle value, const std::string& where) {
+namespace {
+
+// ToJson below `depth` containers (the top level is 1), `ancestors` being the containers on the
+// way down (a container met again is a circular reference).
+nlohmann::json ToJsonAt(py::handle value, const std::string& where, int depth,
+                        std::vector<PyObject*>* ancestors) {
   if (value.is_none()) return nullptr;
   if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
   if (py::isinstance<py::int_>(value)) {
@@ -52,33 +59,87 @@ nlohmann::json ToJson(py::handle value, const std::string& where) {
     }
     return value.cast<double>();  // beyond 64 bits: a (huge) number, rejected by range checks
   }
-  if (py::isinstance<py::float_>(value)) return value.cast<double>();
+  if (py::isinstance<py::float_>(value)) {
+    // A JSON file cannot hold NaN or infinity; nlohmann would keep the double, and the readers
+    // would quote it as null ("got null"). Said here instead, naming the field.
+    const double x = value.cast<double>();
+    if (!std::isfinite(x)) {
+      throw Error(where + ": expected a finite number (JSON has no NaN or infinity), got " +
+                  std::string(py::repr(value)));
+    }
+    return x;
+  }
   if (py::isinstance<py::str>(value)) return value.cast<std::string>();
-  if (py::isinstance<py::dict>(value)) {
-    nlohmann::json object = nlohmann::json::object();
-    for (auto item : value.cast<py::dict>()) {
-      if (!py::isinstance<py::str>(item.first)) {
-        throw Error(where + ": expected string keys, got " +
-                    std::string(py::str(py::repr(item.first))));
+  const bool is_dict = py::isinstance<py::dict>(value);
+  if (is_dict || py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    // The file readers' limits (json_reader.h): a dict holding itself, or nested deeper than a
+    // file may be, is refused before the recursion goes on (it used to overflow the stack).
+    for (PyObject* ancestor : *ancestors) {
+      if (ancestor == value.ptr()) {
+        throw Error(internal::Truncate(where, internal::kMaxShownPath) +
+                    ": expected a JSON-like value, got a circular reference (a container "
+                    "holding itself)");
       }
-      const std::string key = item.first.cast<std::string>();
-      object[key] = ToJson(item.second, where + "." + key);
     }
-    return object;
-  }
-  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
-    nlohmann::json array = nlohmann::json::array();
-    size_t i = 0;
-    for (auto item : value) {
-      array.push_back(ToJson(item, where + "[" + std::to_string(i) + "]"));
-      ++i;
+    if (depth > internal::kMaxJsonDepth) {
+      throw Error(internal::Truncate(where, internal::kMaxShownPath) +
+                  ": expected at most " + std::to_string(internal::kMaxJsonDepth) +
+                  " levels of nested dicts and lists (the limit of JSON files), got deeper");
     }
-    return array;
+    ancestors->push_back(value.ptr());
+    nlohmann::json result;
+    if (is_dict) {
+      result = nlohmann::json::object();
+      for (auto item : value.cast<py::dict>()) {
+        if (!py::isinstance<py::str>(item.first)) {
+          throw Error(where + ": expected string keys, got " +
+                      internal::Truncate(std::string(py::str(py::repr(item.first))),
+                                         internal::kMaxShownCharacters));
+        }
+        const std::string key = item.first.cast<std::string>();
+        result[key] = ToJsonAt(item.second, internal::Member(where, key), depth + 1, ancestors);
+      }
+    } else {
+      result = nlohmann::json::array();
+      size_t i = 0;
+      for (auto item : value) {
+        result.push_back(ToJsonAt(item, internal::Element(where, i), depth + 1, ancestors));
+        ++i;
+      }
+    }
+    ancestors->pop_back();
+    return result;
   }
-  // numpy arrays and scalars (np.int64 is not an int): their Python equivalent.
-  if (py::hasattr(value, "tolist")) return ToJson(value.attr("tolist")(), where);
+  // numpy arrays and scalars (np.int64 is not an int): their Python equivalent, at the same
+  // depth (an array's tolist() is the container standing for it).
+  if (py::hasattr(value, "tolist")) {
+    py::object plain = value.attr("tolist")();
+    if (plain.ptr() != value.ptr() && !py::hasattr(plain, "tolist")) {
+      return ToJsonAt(plain, where, depth, ancestors);
+    }
+  }
   throw Error(where + ": expected a JSON-like value (dict, list, str, number, bool or None), "
               "got " + std::string(py::str(value.get_type().attr("__name__"))));
+}
+
+}  // namespace
+
+nlohmann::json ToJson(py::handle value, const std::string& where) {
+  std::vector<PyObject*> ancestors;
+  return ToJsonAt(value, where, 1, &ancestors);
+}
+
+void RequireNumber(bool ok, double value, const std::string& field, const char* expected) {
+  if (ok && std::isfinite(value)) return;
+  throw Error(field + ": expected " + expected + ", got " +
+              std::string(py::repr(py::float_(value))));
+}
+
+void CheckThreads(long long threads) {
+  if (threads < 0 || threads > kMaxThreads) {
+    throw Error("threads: expected an integer in [0, " + std::to_string(kMaxThreads) +
+                "] (0 = all cores), got " + std::to_string(threads));
+  }
 }
 
 void RunInterruptibly(const std::function<void()>& work, std::atomic<bool>* cancel,
@@ -142,4 +203,5 @@ PYBIND11_MODULE(_ringlet, m) {
   BindHair(m);
   BindRender(m);
   BindInverse(m);
+  BindValues(m);
 }

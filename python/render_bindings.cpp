@@ -29,13 +29,30 @@ py::array ImageArray(Image&& image) {
                    owned->pixels.empty() ? nullptr : owned->pixels[0].data(), owner);
 }
 
-// An (H, W, 3) array-like as an Image (copied).
+// An (H, W, 3) array-like of linear radiance as an Image (copied). Integer arrays are refused:
+// they are sRGB codes (render(srgb=True), encode_srgb8), which a cast to float would take as
+// radiance 0..255 and write as an all-white PNG.
 Image ImageFrom(const py::handle& array) {
-  auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(array);
+  py::array any = py::module_::import("numpy").attr("asarray")(array);
+  const char kind = any.dtype().kind();
+  if (kind != 'f') {
+    throw Error("image: expected linear radiance, a floating-point array of shape (height, "
+                "width, 3), got dtype " + std::string(py::str(any.dtype())) +
+                (kind == 'u' || kind == 'i'
+                     ? " (8-bit sRGB codes, as render(srgb=True) returns, are already encoded: "
+                       "pass the linear image, render(srgb=False))"
+                     : ""));
+  }
+  auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(any);
   if (!a || a.ndim() != 3 || a.shape(2) != 3) {
     throw Error("image: expected an array of shape (height, width, 3)");
   }
   Image image;
+  if (a.shape(0) * a.shape(1) > kMaxRenderPixels) {
+    throw Error("image: expected at most " + std::to_string(kMaxRenderPixels) +
+                " pixels (kMaxRenderPixels), got " + std::to_string(a.shape(0)) + " x " +
+                std::to_string(a.shape(1)));
+  }
   image.height = static_cast<int>(a.shape(0));
   image.width = static_cast<int>(a.shape(1));
   image.pixels.resize(static_cast<size_t>(image.width) * image.height);
@@ -62,8 +79,8 @@ void BindRender(py::module_& m) {
   m.def(
       "render",
       [](py::object hair, py::object hairstyle, py::object settings, py::object body_path,
-         std::optional<int> width, std::optional<int> height,
-         std::optional<int> samples_per_pixel, std::optional<double> eccentricity, int threads,
+         std::optional<long long> width, std::optional<long long> height,
+         std::optional<long long> samples_per_pixel, std::optional<double> eccentricity, long long threads,
          bool srgb, bool return_stats) {
         // What to render: a Groom brings its strands and hairstyle.
         std::shared_ptr<const HairstyleFile> style;
@@ -75,6 +92,12 @@ void BindRender(py::module_& m) {
         } else if (!hair.is_none()) {
           curves = &hair.cast<const HairCurves&>();
         }
+        if (curves) {
+          // The views are writable: counts edited in place must not send the renderer's
+          // framing past the points.
+          std::string why;
+          if (!CheckHairCurves(*curves, "hair", &why)) throw Error(why);
+        }
         if (!hairstyle.is_none()) style = HairstyleFrom(hairstyle, ".");
         RenderSettings s;
         if (style) s = style->render;
@@ -85,9 +108,26 @@ void BindRender(py::module_& m) {
             throw Error(error);
           }
         }
-        if (width) s.options.width = *width;
-        if (height) s.options.height = *height;
-        if (samples_per_pixel) s.options.samples_per_pixel = *samples_per_pixel;
+        // The overrides take what `ringlet render` --width, --height and --spp take (CLI::Range
+        // in cli/render_command.cpp, the settings' own limits), then the products are checked
+        // (CheckRenderSize) as the command checks them.
+        const auto override_int = [](const std::optional<long long>& value, const char* field,
+                                     long long max, int* target) {
+          if (!value) return;
+          if (*value < 1 || *value > max) {
+            throw Error(std::string(field) + ": expected an integer between 1 and " +
+                        std::to_string(max) + ", got " + std::to_string(*value));
+          }
+          *target = static_cast<int>(*value);
+        };
+        override_int(width, "width", 16384, &s.options.width);
+        override_int(height, "height", 16384, &s.options.height);
+        override_int(samples_per_pixel, "samples_per_pixel", 1 << 20,
+                     &s.options.samples_per_pixel);
+        if (!CheckRenderSize(s.options.width, s.options.height, s.options.samples_per_pixel,
+                             &error)) {
+          throw Error("width, height, samples_per_pixel (or the settings): " + error);
+        }
         std::shared_ptr<const Body> body;
         double e = 0.0;
         std::uint64_t orientation_seed = 1;
@@ -102,7 +142,7 @@ void BindRender(py::module_& m) {
           body = std::move(loaded);
         }
         if (eccentricity) e = *eccentricity;
-        if (threads < 0) throw Error("threads: expected >= 0, got " + std::to_string(threads));
+        CheckThreads(threads);
         RenderScene scene;
         if (!MakeRenderScene(s, curves, body, e, orientation_seed, &scene, &error)) {
           throw Error("render: " + error);
@@ -112,7 +152,7 @@ void BindRender(py::module_& m) {
         bool ok = false;
         std::atomic<bool> cancel{false};
         RenderOptions options = s.options;
-        options.threads = threads;
+        options.threads = static_cast<int>(threads);
         options.cancel = &cancel;
         RunInterruptibly([&] { ok = Render(scene, options, &image, &stats, &error); }, &cancel);
         if (!ok) throw Error("render: " + error);
@@ -144,6 +184,7 @@ void BindRender(py::module_& m) {
   m.def(
       "encode_srgb8",
       [](const py::handle& image, double exposure) {
+        RequireNumber(exposure >= 0.0, exposure, "exposure", "a finite number >= 0");
         const Image im = ImageFrom(image);
         std::vector<unsigned char> codes = EncodeSrgb8(im, exposure);
         return OwnedArray(std::move(codes), {im.height, im.width, 3});

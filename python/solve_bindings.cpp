@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -52,6 +53,48 @@ Vec3 ToVec3(const Eigen::Ref<const VecX>& v, const char* field) {
   return Vec3(v[0], v[1], v[2]);
 }
 
+// The file readers' rules (scene_json.cpp: kLengthRule, kEccentricityRule, kEllipticityRule,
+// kGradingRule, the material's), applied to the helpers' arguments, which used to return
+// nonsense (NaN sections, negative or empty segment lists) instead of raising.
+constexpr const char* kPositiveMetres = "a finite number > 0 (metres)";
+
+void CheckSection(const CrossSection& s) {
+  RequireNumber(s.a > 0.0, s.a, "a", kPositiveMetres);
+  RequireNumber(s.b > 0.0 && s.b <= s.a, s.b, "b",
+                "a finite number in (0, a] (metres; the minor semi-axis)");
+}
+
+void CheckMaterial(const Material& m) {
+  RequireNumber(m.young_modulus > 0.0, m.young_modulus, "young_modulus",
+                "a finite number > 0 (pascals)");
+  RequireNumber(m.poisson_ratio > -1.0 && m.poisson_ratio <= 0.5, m.poisson_ratio,
+                "poisson_ratio", "a finite number in (-1, 0.5]");
+  RequireNumber(m.density >= 0.0, m.density, "density", "a finite number >= 0 (kg/m^3)");
+}
+
+void CheckSegmentCount(int segments) {
+  if (segments < 1 || segments > kMaxSegments) {
+    throw Error("segments: expected an integer between 1 and " + std::to_string(kMaxSegments) +
+                ", got " + std::to_string(segments));
+  }
+}
+
+// Segment lengths that underflowed (a tiny length, an extreme ratio), blamed as the scene
+// reader blames them.
+std::vector<double> CheckedLengths(std::vector<double> lengths, const char* field,
+                                   double value) {
+  for (double l : lengths) {
+    if (!(std::isfinite(l) && l > 0.0)) {
+      throw Error(std::string(field) + ": is too " +
+                  (std::string(field) == "ratio" ? "large" : "small") + " for " +
+                  std::to_string(lengths.size()) +
+                  " segments: some segment lengths are not representable, got " +
+                  std::string(py::repr(py::float_(value))));
+    }
+  }
+  return lengths;
+}
+
 }  // namespace
 
 Scene SceneFrom(py::handle scene) {
@@ -87,37 +130,109 @@ void BindSolve(py::module_& m) {
   py::class_<CrossSection>(m, "CrossSection",
                            "An elliptic fibre section: semi-axes a >= b > 0 (m); the major axis "
                            "a lies along the material axis n1 (cross_section.h).")
-      .def(py::init([](double a, double b) { return CrossSection{a, b}; }), py::arg("a"),
-           py::arg("b"), "Section of semi-axes a (major, along n1) and b (minor) in metres.")
-      .def_readwrite("a", &CrossSection::a, "Major semi-axis, along n1 (m).")
-      .def_readwrite("b", &CrossSection::b, "Minor semi-axis, along n2 (m).")
+      .def(py::init([](double a, double b) {
+             const CrossSection s{a, b};
+             CheckSection(s);
+             return s;
+           }),
+           py::arg("a"), py::arg("b"),
+           "Section of semi-axes a (major, along n1) and b (minor) in metres: finite, "
+           "a >= b > 0, else ringlet.Error.")
+      // Each semi-axis is checked alone when set (a >= b waits for the solve's IsValid: one
+      // of the two is set first).
+      .def_property(
+          "a", [](const CrossSection& s) { return s.a; },
+          [](CrossSection& s, double a) {
+            RequireNumber(a > 0.0, a, "a", kPositiveMetres);
+            s.a = a;
+          },
+          "Major semi-axis, along n1 (m, finite > 0).")
+      .def_property(
+          "b", [](const CrossSection& s) { return s.b; },
+          [](CrossSection& s, double b) {
+            RequireNumber(b > 0.0, b, "b", kPositiveMetres);
+            s.b = b;
+          },
+          "Minor semi-axis, along n2 (m, finite > 0).")
       .def("area", &CrossSection::Area, "Area pi a b (m^2).")
       .def("i1", &CrossSection::I1, "Second moment about n1, pi a b^3 / 4 (m^4): the soft one.")
       .def("i2", &CrossSection::I2, "Second moment about n2, pi a^3 b / 4 (m^4).")
       .def("j", &CrossSection::J, "Torsion constant pi a^3 b^3 / (a^2 + b^2) (m^4).")
       .def("eccentricity", &CrossSection::Eccentricity, "sqrt(1 - b^2/a^2) in [0, 1).")
-      .def("mean_radius", &CrossSection::MeanRadius, "sqrt(a b) (m).")
-      .def("__repr__", [](const CrossSection& s) {
-        return "CrossSection(a=" + std::to_string(s.a) + ", b=" + std::to_string(s.b) + ")";
-      });
-  m.def("section_from_eccentricity", &SectionFromEccentricity, py::arg("mean_radius"),
-        py::arg("eccentricity"),
-        "Section of mean radius sqrt(a b) (m) and eccentricity in [0, 1).");
-  m.def("section_from_ellipticity", &SectionFromEllipticity, py::arg("mean_radius"),
-        py::arg("ellipticity"), "Section of mean radius sqrt(a b) (m) and ellipticity a/b >= 1.");
+      .def("mean_radius", &CrossSection::MeanRadius, "sqrt(a b) (m).");
+  m.def(
+      "section_from_eccentricity",
+      [](double mean_radius, double eccentricity) {
+        RequireNumber(mean_radius > 0.0, mean_radius, "mean_radius", kPositiveMetres);
+        RequireNumber(eccentricity >= 0.0 && eccentricity < 1.0, eccentricity, "eccentricity",
+                      "a finite number in [0, 1)");
+        const CrossSection s = SectionFromEccentricity(mean_radius, eccentricity);
+        std::string why;
+        if (!IsValid(s, &why)) {
+          throw Error("mean_radius: gives no representable section with eccentricity " +
+                      std::string(py::repr(py::float_(eccentricity))) + " (" + why + "), got " +
+                      std::string(py::repr(py::float_(mean_radius))));
+        }
+        return s;
+      },
+      py::arg("mean_radius"), py::arg("eccentricity"),
+      "Section of mean radius sqrt(a b) (m, > 0) and eccentricity in [0, 1).");
+  m.def(
+      "section_from_ellipticity",
+      [](double mean_radius, double ellipticity) {
+        RequireNumber(mean_radius > 0.0, mean_radius, "mean_radius", kPositiveMetres);
+        RequireNumber(ellipticity >= 1.0, ellipticity, "ellipticity",
+                      "a finite number >= 1 (the ratio a/b of the semi-axes)");
+        const CrossSection s = SectionFromEllipticity(mean_radius, ellipticity);
+        std::string why;
+        if (!IsValid(s, &why)) {
+          throw Error("mean_radius: gives no representable section with ellipticity " +
+                      std::string(py::repr(py::float_(ellipticity))) + " (" + why + "), got " +
+                      std::string(py::repr(py::float_(mean_radius))));
+        }
+        return s;
+      },
+      py::arg("mean_radius"), py::arg("ellipticity"),
+      "Section of mean radius sqrt(a b) (m, > 0) and ellipticity a/b >= 1.");
 
   py::class_<Material>(m, "Material",
                        "Elastic constants and density of a fibre (SI); defaults are the "
                        "paper's: E = 10 GPa, Poisson ratio 0.3, 1300 kg/m^3.")
       .def(py::init([](double young_modulus, double poisson_ratio, double density) {
-             return Material{young_modulus, poisson_ratio, density};
+             const Material material{young_modulus, poisson_ratio, density};
+             CheckMaterial(material);
+             return material;
            }),
            py::arg("young_modulus") = 10e9, py::arg("poisson_ratio") = 0.3,
            py::arg("density") = 1300.0)
-      .def_readwrite("young_modulus", &Material::young_modulus, "Young's modulus E (Pa).")
-      .def_readwrite("poisson_ratio", &Material::poisson_ratio,
-                     "Poisson's ratio (dimensionless), in (-1, 0.5].")
-      .def_readwrite("density", &Material::density, "Volumic mass rho (kg/m^3).")
+      // Each field is checked when set, as the constructor checks it.
+      .def_property(
+          "young_modulus", [](const Material& material) { return material.young_modulus; },
+          [](Material& material, double value) {
+            Material changed = material;
+            changed.young_modulus = value;
+            CheckMaterial(changed);
+            material = changed;
+          },
+          "Young's modulus E (Pa, finite > 0).")
+      .def_property(
+          "poisson_ratio", [](const Material& material) { return material.poisson_ratio; },
+          [](Material& material, double value) {
+            Material changed = material;
+            changed.poisson_ratio = value;
+            CheckMaterial(changed);
+            material = changed;
+          },
+          "Poisson's ratio (dimensionless), in (-1, 0.5].")
+      .def_property(
+          "density", [](const Material& material) { return material.density; },
+          [](Material& material, double value) {
+            Material changed = material;
+            changed.density = value;
+            CheckMaterial(changed);
+            material = changed;
+          },
+          "Volumic mass rho (kg/m^3, finite >= 0).")
       .def("shear_modulus", &Material::ShearModulus, "E / (2 (1 + sigma)) (Pa).");
 
   py::class_<StrandModel>(
@@ -191,13 +306,38 @@ void BindSolve(py::module_& m) {
             if (!IsValid(model, &why)) throw Error(why);
           },
           "Raises ringlet.Error naming the first bad field (IsValid), else returns None.");
-  m.def("uniform_segments", &UniformSegments, py::arg("length"), py::arg("segments"),
-        "n segments of equal length L/n (m).");
-  m.def("graded_segments", &GradedSegments, py::arg("length"), py::arg("segments"),
-        py::arg("ratio"),
-        "n segment lengths growing geometrically root to tip, last/first = ratio >= 1, sum L (m).");
-  m.def("recommended_grading_ratio", &RecommendedGradingRatio, py::arg("gravity_parameter"),
-        "The last/first segment ratio recommended for the load w L^3 / (E I1) (dimensionless).");
+  m.def(
+      "uniform_segments",
+      [](double length, int segments) {
+        RequireNumber(length > 0.0, length, "length", kPositiveMetres);
+        CheckSegmentCount(segments);
+        return CheckedLengths(UniformSegments(length, segments), "length", length);
+      },
+      py::arg("length"), py::arg("segments"),
+      "n segments (1 to 100000) of equal length L/n (L > 0, m).");
+  m.def(
+      "graded_segments",
+      [](double length, int segments, double ratio) {
+        RequireNumber(length > 0.0, length, "length", kPositiveMetres);
+        CheckSegmentCount(segments);
+        RequireNumber(ratio >= 1.0, ratio, "ratio",
+                      "a finite number >= 1 (last/first segment length)");
+        return CheckedLengths(GradedSegments(length, segments, ratio),
+                              ratio == 1.0 ? "length" : "ratio", ratio == 1.0 ? length : ratio);
+      },
+      py::arg("length"), py::arg("segments"), py::arg("ratio"),
+      "n segment lengths (1 to 100000) growing geometrically root to tip, last/first = ratio "
+      ">= 1, sum L (L > 0, m).");
+  m.def(
+      "recommended_grading_ratio",
+      [](double gravity_parameter) {
+        RequireNumber(gravity_parameter >= 0.0, gravity_parameter, "gravity_parameter",
+                      "a finite number >= 0 (w L^3 / (E I1))");
+        return RecommendedGradingRatio(gravity_parameter);
+      },
+      py::arg("gravity_parameter"),
+      "The last/first segment ratio recommended for the load w L^3 / (E I1) >= 0 "
+      "(dimensionless).");
 
   py::class_<SolveOptions>(m, "SolveOptions", "Options of the statics solve (statics.h).")
       .def(py::init([](const std::string& method, int max_iterations, double tolerance,
@@ -310,12 +450,7 @@ void BindSolve(py::module_& m) {
       .def_readonly("stability_restarts", &SolveSummary::stability_restarts,
                     "Unstable equilibria left along negative curvature.")
       .def_readonly("contact", &SolveSummary::contact, "Contact at the result.")
-      .def("converged", &SolveSummary::Converged, "termination == \"converged\".")
-      .def("__repr__", [](const SolveSummary& s) {
-        return std::string("SolveSummary(") + TerminationName(s.termination) +
-               ", iterations=" + std::to_string(s.iterations) +
-               ", stable=" + (s.stable ? "True" : "False") + ")";
-      });
+      .def("converged", &SolveSummary::Converged, "termination == \"converged\".");
 
   py::class_<StrandSolution>(m, "StrandSolution", "Curvatures at equilibrium and the summary.")
       .def_property_readonly(
@@ -371,33 +506,45 @@ void BindSolve(py::module_& m) {
 
   m.def(
       "solve",
-      [](py::object scene, const SolveOptions* options, int points_per_segment, int threads) {
+      [](py::object scene, const SolveOptions* options, int points_per_segment, long long threads) {
         Scene s = SceneFrom(scene);
         if (options) s.solver = *options;
         std::string why;
         if (!s.solver.IsValid(&why)) throw Error("solver: " + why);
+        // The scene reader's limits (scene_json.cpp), for scenes made in Python: the method's
+        // segment limit (dense BFGS: 72 n^2 bytes) and kMaxTotalSegments in all strands.
+        long total_segments = 0;
         for (size_t i = 0; i < s.strands.size(); ++i) {
-          if (!IsValid(s.strands[i], &why)) {
-            throw Error("strands[" + std::to_string(i) + "]: " + why);
+          const std::string strand = "strands[" + std::to_string(i) + "]";
+          if (!IsValid(s.strands[i], &why)) throw Error(strand + ": " + why);
+          const int n = s.strands[i].NumSegments();
+          if (!CheckMethodSegments(n, s.solver.method, &why)) {
+            throw Error(strand + ".segment_lengths: " + why);
+          }
+          total_segments += n;
+          if (total_segments > kMaxTotalSegments) {
+            throw Error(strand + ".segment_lengths: " + std::to_string(n) +
+                        " more segments would take the scene beyond its limit of " +
+                        std::to_string(kMaxTotalSegments) + " segments in all strands");
           }
         }
         if (points_per_segment < 1 || points_per_segment > 1000) {
           throw Error("points_per_segment: expected an integer in [1, 1000], got " +
                       std::to_string(points_per_segment));
         }
-        if (threads < 0) throw Error("threads: expected >= 0, got " + std::to_string(threads));
+        CheckThreads(threads);
         std::vector<SolvedStrand> solved(s.strands.size());
         std::atomic<bool> cancel{false};
         RunInterruptibly(
             [&] {
               BatchOptions batch;
-              batch.threads = threads;
+              batch.threads = static_cast<int>(threads);
               batch.cancel = &cancel;
               const std::vector<StrandSolution> solutions =
                   SolveStrands(s.strands, s.solver, batch);
               if (cancel.load()) return;
               std::vector<StrandResult> results =
-                  MakeStrandResults(s.strands, solutions, points_per_segment, threads);
+                  MakeStrandResults(s.strands, solutions, points_per_segment, static_cast<int>(threads));
               for (size_t i = 0; i < results.size(); ++i) {
                 solved[i].frames = SampleFramedCentreline(s.strands[i], solutions[i].curvatures,
                                                           points_per_segment)

@@ -34,7 +34,15 @@ struct HairstyleFile {
   Hairstyle style;
   std::vector<StyleOperation> operations;
   RenderSettings render;
+  /// What it was parsed from, for pickling (the hairstyle is parsed again from them): the JSON
+  /// text of the file or dict and the absolute directory of its relative paths.
+  std::string document_text;
+  std::string base_directory;
 };
+
+/// The hairstyle of a document text and base directory (HairstyleFile's pickle).
+std::shared_ptr<const HairstyleFile> HairstyleFromText(const std::string& text,
+                                                       const std::string& base_directory);
 
 /// What ringlet.Groom holds: the groom and the hairstyle it came from.
 struct GroomResult {

@@ -12,9 +12,22 @@ are the C++ API's, functions in snake_case (``SolveStrands`` -> ``solve``, ``Rea
 
 Errors raise ringlet.Error (a ValueError and RuntimeError) with the library's one-line message.
 Long solves, grooms, styling operations and renders release the GIL and stop on Ctrl-C.
+Models, scenes, hairstyles, results, grooms and hair curves pickle bit for bit and support
+copy.copy / copy.deepcopy (multiprocessing, joblib). Type stubs: ringlet/__init__.pyi.
 """
 
+from . import _ringlet
 from ._ringlet import *  # noqa: F401,F403  (the extension holds the whole API)
 from ._ringlet import Error  # noqa: F401  (explicit: the exception every call may raise)
 
 __version__ = "0.1.0"
+
+# The public names, so that help(ringlet) lists the classes and functions (pydoc shows a
+# module's classes only when they are its own or listed in __all__), and the classes report
+# themselves as ringlet.X (repr, pickles: ringlet.StrandModel is where pickle finds them).
+__all__ = sorted(name for name in dir(_ringlet) if not name.startswith("_"))
+for _name in __all__:
+    _value = getattr(_ringlet, _name)
+    if isinstance(_value, type) and _value.__module__ == "ringlet._ringlet":
+        _value.__module__ = "ringlet"
+del _name, _value

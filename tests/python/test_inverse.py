@@ -112,7 +112,7 @@ def test_progress_reports_each_stage(dense_target):
     (dict(targets=[]), "targets: expected at least one strand"),
     (dict(targets=[[[0, 0, 0], [0, 0, np.nan]]]), "targets[0]: point 1 is not finite"),
     (dict(hair_type="martian"), "hair_type: "),
-    (dict(threads=10**5), "threads: expected 0 (all cores) to 1024"),
+    (dict(threads=10**5), "threads: expected an integer in [0, 1024]"),
     (dict(clearance=-1.0), "clearance: expected a finite number in [0, 0.1)"),
     (dict(body="/nonexistent/body.json"), "body: /nonexistent/body.json"),
     (dict(progress=3), "progress: expected None or a callable"),
