@@ -33,3 +33,19 @@ def test_groom_cut_export(tmp_path, small_style):
     assert hair.points[:, 2].min() > -0.1 - 0.01
     assert (tmp_path / "out" / "cut.usda").read_text().startswith("#usda 1.0")
     assert "strands" in stdout
+
+
+def test_invert_sweep(cli, tmp_path):
+    # Targets: the 5 example strands' equilibria (ringlet solve, then invert's equilibrium.hair).
+    cli("solve", EXAMPLES / "strands.json", "-o", tmp_path / "targets.json", "--quiet")
+    cli("invert", tmp_path / "targets.json", "-o", tmp_path / "inv", "-q")
+    stdout = run("invert_sweep.py", tmp_path / "inv" / "equilibrium.hair", "--strands", 5,
+                 "--workers", 2)
+    assert "inverted 5 strands" in stdout and "0 unstable" in stdout, stdout
+    rows = [line.split() for line in stdout.splitlines() if line.strip()[:1].isdigit()]
+    factors = [float(r[0]) for r in rows]
+    sags = [float(r[1]) for r in rows]
+    assert factors == [1.0, 0.8, 0.6, 0.4], stdout
+    # Full stiffness is the reference itself (0); softer fibres sag more and more (the load
+    # parameter rho S g L^3 / (E I) grows as E falls).
+    assert sags[0] == 0.0 and 0.0 < sags[1] < sags[2] < sags[3], stdout
