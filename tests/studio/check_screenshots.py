@@ -13,7 +13,7 @@ import zlib
 
 import numpy as np
 
-PANEL = 360  # the panel's width (pixels)
+PANEL = 400  # the panel's width (pixels, studio/main.cpp kPanelWidth)
 
 
 def read_png(path):
