@@ -1357,6 +1357,8 @@ void WriteReport(App* app) {
   r["cut_tool"] = app->cut_tool;
   r["plane_height"] = app->plane_height;
   r["brush"] = s.brush.size();
+  r["export_path"] = app->export_path;
+  r["save_path"] = app->save_path;
   r["widgets"] = app->widgets;
   std::string text = r.dump(1);
   if (text == app->last_report) return;

@@ -69,7 +69,9 @@ def wait(condition, what, timeout=30.0):
             print(f"{time.time() - T0:5.1f} s       ({what})", flush=True)
             return quiet()
         time.sleep(0.05)
-    check(False, f"timed out waiting for {what}")
+    r = report()
+    check(False, f"timed out waiting for {what} (message: {r['message']!r}, "
+                 f"history: {r['history'][-3:]})")
     raise SystemExit(finish())
 
 
@@ -228,8 +230,8 @@ def sliders():
 
 
 def keys():
-    # Two edits to undo (hair seed dragged twice).
-    for end in (FIELD - 10, 60):
+    # Three edits to undo (hair seed dragged three times): a repeated undo would show.
+    for end in (FIELD - 10, 60, 120):
         rect = widget("hair.seed")
         before = field(report(), "hair.seed")
         drag_slider("hair.seed", rect[0] + 30, rect[0] + end)
@@ -326,10 +328,13 @@ def export():
     for ext in ("hair", "usda", "obj"):
         path = os.path.join(WORK, f"export.{ext}")
         type_into("export_path", f"export.{ext}")  # the studio runs in WORK
+        check(report()["export_path"] == f"export.{ext}",
+              f"export file name typed: {report()['export_path']!r}")
         click(*centre("Export"))
         wait(lambda r: os.path.exists(path), f"export.{ext}")
     saved = os.path.join(WORK, "session.json")
     type_into("save_path", "session.json")
+    check(report()["save_path"] == "session.json", f"save name typed: {report()['save_path']!r}")
     click(*centre("Save"))
     wait(lambda r: os.path.exists(saved) and not r["modified"], "the save")
     out = os.path.join(WORK, "styled")
