@@ -965,13 +965,16 @@ void Panel(App* app) {
     AddOperation(app, Brushed(app, op));
   }
   ImGui::EndDisabled();
-  // The tool's rows: always three (plane: height, tilt, roll; sphere: centre, radius).
+  // The tool's rows: always three (plane, or off: height, tilt, roll, disabled when off;
+  // sphere: centre, radius).
   const float tool_top = ImGui::GetCursorPosY();
-  if (app->cut_tool == 1) {
+  if (app->cut_tool != 2) {
+    ImGui::BeginDisabled(app->cut_tool == 0);
     Slider(app, "plane height (m)", &app->plane_height, -0.5f, 0.2f);
     Slider(app, "tilt (deg)", &app->plane_tilt, -80.0f, 80.0f, "%.1f");
     Slider(app, "roll (deg)", &app->plane_roll, -80.0f, 80.0f, "%.1f");
-  } else if (app->cut_tool == 2) {
+    ImGui::EndDisabled();
+  } else {
     ImGui::SetNextItemWidth(kFieldWidth);
     ImGui::SliderFloat3("centre (m)", app->sphere_centre, -0.3f, 0.3f);
     Record(app, "centre (m)");
