@@ -157,6 +157,7 @@ struct App {
   float sphere_centre[3] = {0.0f, 0.0f, 0.0f};
   float sphere_radius = 0.2f;
   RenderSettings render_settings;
+  bool look_computed = false;  // look.colour is the path tracer's for render_settings
   RenderPanel render;
   // Modals.
   Guarded guarded = Guarded::kNone;
@@ -201,8 +202,17 @@ void LoadLook(App* app, const std::string& path) {
   RenderSettings settings;
   std::string error;
   if (path.empty() || !LoadRenderSettings(path, &settings, &error)) settings = RenderSettings();
+  const bool same_look = app->look_computed &&
+                         settings.eumelanin == app->render_settings.eumelanin &&
+                         settings.pheomelanin == app->render_settings.pheomelanin &&
+                         settings.exposure == app->render_settings.exposure;
   app->render_settings = settings;
-  app->look.colour = MelaninColour(settings.eumelanin, settings.pheomelanin);
+  if (same_look) return;
+  app->look_computed = true;
+  // The path tracer's colour of this hair (what the render panel shows), not a mapping of the
+  // melanins; doubled because the view's shading ((0.15 + 0.85 diffuse) x ambient occlusion,
+  // viewer.cpp) gives about half of the base colour where the light falls across the hair.
+  app->look.colour = (2.0f * PathTracedHairColour(settings, 0.0)).cwiseMax(0.01f).cwiseMin(1.0f);
 }
 
 bool Open(App* app, const std::string& path) {
