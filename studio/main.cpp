@@ -1332,8 +1332,8 @@ void HandleInput(App* app, const std::vector<InputEvent>& events) {
   }
 }
 
-// --report FILE: the panel's widgets (window coordinates), the view and the document as JSON, written
-// atomically after each frame that changed it (the tests read it; they act through the X
+// --report FILE: the panel's widgets (window coordinates), the view and the document as JSON,
+// written atomically after each frame that changed it (the tests read it; they act through the X
 // server's input only).
 void WriteReport(App* app) {
   if (app->report_path.empty()) return;
@@ -1826,7 +1826,8 @@ int Main(int argc, char** argv) {
   }
   if (!screenshot.empty() && script.empty() && hairstyle.empty()) {
     std::fprintf(stderr,
-                 "ringlet-studio: --screenshot: expected a HAIRSTYLE.json to open (or a --script)\n");
+                 "ringlet-studio: --screenshot: expected a HAIRSTYLE.json to open "
+                 "(or a --script)\n");
     return 1;
   }
   if (!glfwInit()) {

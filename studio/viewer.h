@@ -47,8 +47,9 @@ Eigen::Vector3f MelaninColour(double eumelanin, double pheomelanin);
 
 /// The colour the path tracer gives hair of these render settings (melanins, fibre optics, key
 /// light, environment, exposure) and eccentricity: the mean linear radiance of a small render
-/// (12 x 12 pixels, 8 samples, not denoised: 0.05-0.1 s) of an opaque swatch of parallel fibres seen from
-/// the front, times the exposure. Falls back to MelaninColour when the render fails.
+/// (12 x 12 pixels, 8 samples, not denoised; 0.1-0.2 s on 2 shared cores) of an opaque swatch
+/// of parallel fibres seen from the front, times the exposure. Falls back to MelaninColour when
+/// the render fails.
 Eigen::Vector3f PathTracedHairColour(const RenderSettings& settings, double eccentricity);
 
 class Viewer {
