@@ -144,7 +144,7 @@ int RunGroom(const GroomArgs& args) {
   const auto write_start = std::chrono::steady_clock::now();
   std::vector<std::pair<std::string, std::string>> files;  // (name, contents)
   if (!EncodeStrandOutputs(
-          groom.strands, formats, hair_options, style.body.get(),
+          groom.strands, render_settings, formats, hair_options, style.body.get(),
           [&] { return MastersJson(groom, SecondsSince(start)); }, &files, &error)) {
     PrintError(error);
     return kExitBadInput;

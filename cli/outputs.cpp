@@ -138,7 +138,8 @@ std::vector<std::string> StrandOutputNames(const std::set<std::string>& formats)
   return names;
 }
 
-bool EncodeStrandOutputs(const HairCurves& strands, const std::set<std::string>& formats,
+bool EncodeStrandOutputs(const HairCurves& strands, const RenderSettings& render,
+                         const std::set<std::string>& formats,
                          const HairFileOptions& hair_options, const Body* body,
                          const std::function<std::string()>& masters_json,
                          std::vector<std::pair<std::string, std::string>>* files,
@@ -152,8 +153,8 @@ bool EncodeStrandOutputs(const HairCurves& strands, const std::set<std::string>&
     if (format == "body") {
       if (body) EncodeBodyObj(*body, &contents);
     } else if (StrandFormatFromPath(o.name, &strand_format, nullptr)) {
-      // strands.hair, .usda, .obj: the library's one encoder (the studio's Export uses it too).
-      ok = EncodeStrands(strands, strand_format, hair_options, &contents, error);
+      // strands.hair, .usda, .obj: the library's one code path (the studio's Export uses it too).
+      ok = EncodeHairstyleStrands(strands, render, strand_format, hair_options, &contents, error);
     } else {
       contents = masters_json();
     }

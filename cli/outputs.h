@@ -83,9 +83,12 @@ void ApplyRenderOverrides(const OutputOptions& options, RenderSettings* settings
 /// The names of the strand files in `formats`, in kStrandOutputs order.
 std::vector<std::string> StrandOutputNames(const std::set<std::string>& formats);
 
-/// Encodes the strand files in `formats` (body.obj from body, masters_json makes masters.json) and appends
-/// (name, contents) to files. On failure *error gets one line starting with the file name.
-bool EncodeStrandOutputs(const HairCurves& strands, const std::set<std::string>& formats,
+/// Encodes the strand files in `formats` (strands.hair, .usda, .obj by the library's
+/// EncodeHairstyleStrands with the hairstyle's render settings: the studio's Export writes the
+/// same bytes; body.obj from body, masters_json makes masters.json) and appends (name,
+/// contents) to files. On failure *error gets one line starting with the file name.
+bool EncodeStrandOutputs(const HairCurves& strands, const RenderSettings& render,
+                         const std::set<std::string>& formats,
                          const HairFileOptions& hair_options, const Body* body,
                          const std::function<std::string()>& masters_json,
                          std::vector<std::pair<std::string, std::string>>* files,

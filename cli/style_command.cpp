@@ -275,7 +275,7 @@ int RunStyle(const StyleArgs& args) {
   };
   bool ok = true;
   if (!EncodeStrandOutputs(
-          strands, formats, hair_options, style.body.get(),
+          strands, render_settings, formats, hair_options, style.body.get(),
           [&] { return MastersJson(state, reports, plan, SecondsSince(start)); }, &files,
           &error)) {
     PrintError(error);
@@ -283,7 +283,8 @@ int RunStyle(const StyleArgs& args) {
   }
   for (size_t k = 0; ok && formats.count("hair") && k < grow_frames.size(); ++k) {
     ok = encode(Format("step_%03d.hair", static_cast<int>(k + 1)), [&](std::string* t) {
-      return EncodeHairFile(grow_frames[k], hair_options, t, &error);
+      return EncodeHairstyleStrands(grow_frames[k], render_settings, StrandFormat::kHair,
+                                    hair_options, t, &error);
     });
   }
   if (ok && !grow_frames.empty() && formats.count("usda")) {

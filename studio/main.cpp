@@ -1,8 +1,16 @@
-// `ringlet-studio [HAIRSTYLE.json] [--script FILE] [--screenshot OUT.png] [--size WxH]`: the
-// interactive hairstyling tool (docs/studio.md). A window with the hair and body (viewer.h), an
-// ImGui panel of controls in groomers' vocabulary, a brush on the scalp, and the editing model
-// (session.h) re-solving on a worker thread. --script runs a line-based script (below) and
-// exits: the headless mode of the tests, under xvfb-run.
+// `ringlet-studio [HAIRSTYLE.json] [--script FILE] [--screenshot OUT.png] [--size WxH]
+// [--report FILE] [--min-frame-seconds S]`: the interactive hairstyling tool (docs/studio.md). A
+// window with the hair and body (viewer.h), an ImGui panel of controls in groomers' vocabulary, a
+// brush on the scalp, and the editing model (session.h) re-solving on a worker thread. --script
+// runs a line-based script (below) and exits: the headless mode of the tests, under xvfb-run.
+// HAIRSTYLE --screenshot OUT.png without --script saves the first solved frame and exits.
+//
+// Input: GLFW's callbacks queue every event (InputEvent); each frame takes a run of them with at
+// most one button or key transition (TakeFrameEvents), so that a click or key tap shorter than a
+// frame is seen by ImGui and by the view, at the cursor position of the event. Drags are
+// measured from the press; shortcuts act once per press (GLFW_PRESS, never on key repeat). The
+// window redraws only when something changed (an event, a solve's progress or result, a render
+// pass): idle, it sleeps in glfwWaitEvents.
 //
 // Script commands, one per line (# comments): open PATH | new | set FIELD VALUE |
 // brush X Y RADIUS | brush-clear | brush-spread N (N masters evenly spread over the indices) |
@@ -41,7 +49,6 @@
 #include "ringlet/png_image.h"
 #include "ringlet/render.h"
 #include "ringlet/render_json.h"
-#include "ringlet/render_json.h"
 #include "ringlet/strand_export.h"
 #include "session.h"
 #include "viewer.h"
@@ -49,7 +56,40 @@
 namespace ringlet::studio {
 namespace {
 
-constexpr float kPanelWidth = 360.0f;
+constexpr float kPanelWidth = 400.0f;
+// The width of the document's sliders (px): their labels, and the wisp radius' "auto" button
+// after its label, fit in the panel.
+constexpr float kFieldWidth = 180.0f;
+
+// One input event, queued by GLFW's callbacks in the order the window system delivered them.
+struct InputEvent {
+  enum class Kind : std::uint8_t { kMove, kButton, kScroll, kKey, kChar };
+  Kind kind = Kind::kMove;
+  double x = 0.0, y = 0.0;  // cursor (window coordinates) of kMove and kButton; kScroll offsets
+  int code = 0;             // the button, the key (GLFW_KEY_*) or the character
+  int action = 0;           // GLFW_PRESS, GLFW_RELEASE or GLFW_REPEAT
+  int mods = 0;             // GLFW_MOD_* at the event
+};
+
+// A drag in the view, measured from the press (not from the previous frame's cursor).
+struct ViewDrag {
+  enum class Mode : std::uint8_t { kNone, kOrbit, kPan, kBrush, kGizmo };
+  Mode mode = Mode::kNone;
+  int button = -1;
+  double x0 = 0.0, y0 = 0.0;  // the press (window coordinates)
+  int mods = 0;               // at the press
+  OrbitCamera camera;         // at the press
+  float plane_height = 0.0f, plane_tilt = 0.0f, plane_roll = 0.0f;
+  float sphere_centre_z = 0.0f, sphere_radius = 0.0f;
+};
+
+// The value of the document slider being edited: while a slider is active it shows this value,
+// not the document's, and its release commits it (the document changes once per edit).
+struct FieldEdit {
+  unsigned id = 0;  // ImGuiID of the active slider, 0 for none
+  double value[3] = {0.0, 0.0, 0.0};
+  int int_value = 0;
+};
 
 // The render panel: the path tracer (render.h) with the studio's camera on a worker thread,
 // progressive (RenderOptions::pass_done: 1, 2, 4, ... samples per pixel, each pass shown as it
@@ -117,6 +157,7 @@ struct App {
   float sphere_centre[3] = {0.0f, 0.0f, 0.0f};
   float sphere_radius = 0.2f;
   RenderSettings render_settings;
+  bool look_computed = false;  // look.colour is the path tracer's for render_settings
   RenderPanel render;
   // Modals.
   Guarded guarded = Guarded::kNone;
@@ -126,6 +167,20 @@ struct App {
   std::string replace_path;
   bool ask_replace = false;
   bool quit = false;
+  // Input (the event queue, and the state ImGui is given each frame).
+  std::vector<InputEvent> events;
+  double cursor_x = 0.0, cursor_y = 0.0;  // after the events taken so far
+  bool mouse_down[5] = {false, false, false, false, false};
+  bool keys_down[512] = {};
+  ViewDrag drag;
+  FieldEdit edit;
+  int redraw_frames = 2;  // frames still to draw before waiting for events
+  double min_frame_seconds = 0.0;  // --min-frame-seconds (tests of input at low frame rates)
+  // --report: after each frame, the widgets' rectangles and the document as JSON.
+  std::string report_path;
+  std::string last_report;
+  long frames = 0;
+  nlohmann::ordered_json widgets = nlohmann::ordered_json::object();
 };
 
 // The panel's width in framebuffer pixels (the 3D view is to its right).
@@ -147,8 +202,17 @@ void LoadLook(App* app, const std::string& path) {
   RenderSettings settings;
   std::string error;
   if (path.empty() || !LoadRenderSettings(path, &settings, &error)) settings = RenderSettings();
+  const bool same_look = app->look_computed &&
+                         settings.eumelanin == app->render_settings.eumelanin &&
+                         settings.pheomelanin == app->render_settings.pheomelanin &&
+                         settings.exposure == app->render_settings.exposure;
   app->render_settings = settings;
-  app->look.colour = MelaninColour(settings.eumelanin, settings.pheomelanin);
+  if (same_look) return;
+  app->look_computed = true;
+  // The path tracer's colour of this hair (what the render panel shows), not a mapping of the
+  // melanins; doubled because the view's shading ((0.15 + 0.85 diffuse) x ambient occlusion,
+  // viewer.cpp) gives about half of the base colour where the light falls across the hair.
+  app->look.colour = (2.0f * PathTracedHairColour(settings, 0.0)).cwiseMax(0.01f).cwiseMin(1.0f);
 }
 
 bool Open(App* app, const std::string& path) {
@@ -270,6 +334,7 @@ void Sync(App* app) {
       app->framed = true;
     }
     if (app->last_edit_time > 0.0) app->last_latency = glfwGetTime() - app->last_edit_time;
+    app->redraw_frames = std::max(app->redraw_frames, 2);
   }
   const std::string error = app->session.LastError();
   if (!error.empty()) app->message = error;
@@ -375,6 +440,7 @@ void SyncRender(App* app) {
     r.shown_samples = r.samples;
     r.dirty = false;
   }
+  app->redraw_frames = std::max(app->redraw_frames, 2);
   const Image& image = r.shown;
   const float exposure = static_cast<float>(app->render_settings.exposure);
   std::vector<unsigned char> bytes(static_cast<size_t>(image.width) * image.height * 4);
@@ -422,7 +488,15 @@ bool DoWrite(App* app, Write kind, const std::string& path, bool overwrite) {
         error = "export: the hair is being re-solved; export when it is done";
         break;
       }
-      ok = ExportStrands(path, *hair->strands, HairFileOptions{}, overwrite, &error);
+      // The document's render settings colour the strands: the bytes of `ringlet style` (and
+      // `ringlet groom`) for the saved document, by the same library call.
+      RenderSettings render;
+      if (!ParseRenderMember(nlohmann::json(app->session.CurrentDocument().parameters), &render,
+                             &error)) {
+        break;
+      }
+      ok = ExportHairstyleStrands(path, *hair->strands, render, HairFileOptions{}, overwrite,
+                                  &error);
       break;
     }
     case Write::kPng:
@@ -575,43 +649,82 @@ void RenderWindow(App* app) {
 // ---------------------------------------------------------------------------------------------
 // The panel
 
-// A slider of a numeric field that edits the document when released.
-void FieldSlider(App* app, const char* label, const std::string& field, float min, float max,
-                 float fallback, const char* format = "%.3f") {
+// Records the last item's rectangle (window coordinates) under a name, for --report.
+void Record(App* app, const std::string& name) {
+  if (app->report_path.empty()) return;
+  const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+  app->widgets[name] = {a.x, a.y, b.x, b.y};
+}
+
+// A slider of a numeric field that edits the document when released: while it is active it
+// shows its own value (FieldEdit), and the release commits that value, as a double (a value
+// typed after Ctrl+click is stored as typed: "0.2" is 0.2, not the float 0.200000003).
+void FieldSlider(App* app, const char* label, const std::string& field, double min, double max,
+                 double fallback, const char* format = "%.3f") {
+  const ImGuiID id = ImGui::GetID(label);
   const nlohmann::ordered_json v = app->session.Parameter(field);
-  float value = v.is_number() ? v.get<float>() : fallback;
-  ImGui::SliderFloat(label, &value, min, max, format);
-  if (ImGui::IsItemDeactivatedAfterEdit()) SetField(app, field, static_cast<double>(value));
+  double value = v.is_number() ? v.get<double>() : fallback;
+  if (app->edit.id == id) value = app->edit.value[0];
+  ImGui::SetNextItemWidth(kFieldWidth);
+  ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &min, &max, format);
+  Record(app, field);
+  if (ImGui::IsItemActive()) {
+    app->edit.id = id;
+    app->edit.value[0] = value;
+  }
+  if (ImGui::IsItemDeactivatedAfterEdit()) SetField(app, field, value);
+  if (ImGui::IsItemDeactivated() && app->edit.id == id) app->edit.id = 0;
 }
 
 void FieldInt(App* app, const char* label, const std::string& field, int min, int max,
               int fallback) {
+  const ImGuiID id = ImGui::GetID(label);
   const nlohmann::ordered_json v = app->session.Parameter(field);
   int value = v.is_number() ? v.get<int>() : fallback;
+  if (app->edit.id == id) value = app->edit.int_value;
+  ImGui::SetNextItemWidth(kFieldWidth);
   ImGui::SliderInt(label, &value, min, max);
+  Record(app, field);
+  if (ImGui::IsItemActive()) {
+    app->edit.id = id;
+    app->edit.int_value = value;
+  }
   if (ImGui::IsItemDeactivatedAfterEdit()) SetField(app, field, value);
+  if (ImGui::IsItemDeactivated() && app->edit.id == id) app->edit.id = 0;
 }
 
 void FieldCheckbox(App* app, const char* label, const std::string& field, bool fallback) {
   const nlohmann::ordered_json v = app->session.Parameter(field);
   bool value = v.is_boolean() ? v.get<bool>() : fallback;
-  if (ImGui::Checkbox(label, &value)) SetField(app, field, value);
+  const bool clicked = ImGui::Checkbox(label, &value);
+  Record(app, field);
+  if (clicked) SetField(app, field, value);
 }
 
-// A 3-vector field (e.g. comb.direction), edited component by component.
-void FieldVector3(App* app, const char* label, const std::string& field, float min, float max,
-                  const float fallback[3]) {
+// A 3-vector field (e.g. comb.direction), edited component by component (the group's own
+// value while active, as FieldSlider).
+void FieldVector3(App* app, const char* label, const std::string& field, double min, double max,
+                  const double fallback[3]) {
+  const ImGuiID id = ImGui::GetID(label);
   const nlohmann::ordered_json v = app->session.Parameter(field);
-  float value[3] = {fallback[0], fallback[1], fallback[2]};
+  double value[3] = {fallback[0], fallback[1], fallback[2]};
   if (v.is_array() && v.size() == 3) {
     for (int k = 0; k < 3; ++k) {
-      if (v[k].is_number()) value[k] = v[k].get<float>();
+      if (v[k].is_number()) value[k] = v[k].get<double>();
     }
   }
-  ImGui::SliderFloat3(label, value, min, max, "%.2f");
+  if (app->edit.id == id) std::copy(app->edit.value, app->edit.value + 3, value);
+  ImGui::SetNextItemWidth(kFieldWidth);
+  ImGui::SliderScalarN(label, ImGuiDataType_Double, value, 3, &min, &max, "%.2f");
+  Record(app, field);
+  if (ImGui::IsItemActive()) {
+    app->edit.id = id;
+    std::copy(value, value + 3, app->edit.value);
+  }
   if (ImGui::IsItemDeactivatedAfterEdit()) {
     SetField(app, field, nlohmann::ordered_json::array({value[0], value[1], value[2]}));
   }
+  if (ImGui::IsItemDeactivated() && app->edit.id == id) app->edit.id = 0;
 }
 
 void FieldCombo(App* app, const char* label, const std::string& field,
@@ -628,24 +741,53 @@ void FieldCombo(App* app, const char* label, const std::string& field,
   }
 }
 
+// A button whose rectangle --report records under `name`.
+bool Button(App* app, const char* label, const std::string& name) {
+  const bool clicked = ImGui::Button(label);
+  Record(app, name);
+  return clicked;
+}
+
+// A slider of the panel's own state (not the document), of the fields' width (narrower when a
+// button follows on its row).
+bool Slider(App* app, const char* label, float* value, float min, float max,
+            const char* format = "%.3f", float width = kFieldWidth) {
+  ImGui::SetNextItemWidth(width);
+  const bool changed = ImGui::SliderFloat(label, value, min, max, format);
+  Record(app, label);
+  return changed;
+}
+
+// Ends a block of rows that is always `rows` rows high, so that what follows does not move when
+// the block shows fewer (the cut tool's rows, the status lines): clicks land where they aimed.
+void PadRows(float top, int rows) {
+  const float used = ImGui::GetCursorPosY() - top;
+  const float height = rows * ImGui::GetFrameHeightWithSpacing();
+  if (used < height) ImGui::Dummy(ImVec2(1.0f, height - used - ImGui::GetStyle().ItemSpacing.y));
+}
+
 void Panel(App* app) {
   int w, h;
-  glfwGetFramebufferSize(app->window, &w, &h);
+  glfwGetWindowSize(app->window, &w, &h);
   ImGui::SetNextWindowPos(ImVec2(0, 0));
   ImGui::SetNextWindowSize(ImVec2(kPanelWidth, static_cast<float>(h)));
   ImGui::Begin("ringlet studio", nullptr,
                ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  app->widgets = nlohmann::ordered_json::object();  // --report: the widgets of this frame
   Session& s = app->session;
   // Files.
+  ImGui::SetNextItemWidth(kPanelWidth - 60.0f);
   ImGui::InputText("file", app->path, sizeof(app->path));
-  if (ImGui::Button("Open")) Guard(app, Guarded::kOpen, app->path);
+  Record(app, "file");
+  if (Button(app, "Open", "Open")) Guard(app, Guarded::kOpen, app->path);
   ImGui::SameLine();
-  if (ImGui::Button("New")) Guard(app, Guarded::kNew);
+  if (Button(app, "New", "New")) Guard(app, Guarded::kNew);
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(150.0f);
+  ImGui::SetNextItemWidth(170.0f);
   ImGui::InputText("##save", app->save_path, sizeof(app->save_path));
+  Record(app, "save_path");
   ImGui::SameLine();
-  if (ImGui::Button("Save")) {
+  if (Button(app, "Save", "Save")) {
     // The document's own file is replaced; any other existing file is asked about.
     if (app->save_path == s.Path()) {
       DoWrite(app, Write::kSave, app->save_path, true);
@@ -653,26 +795,30 @@ void Panel(App* app) {
       TryWrite(app, Write::kSave, app->save_path);
     }
   }
-  ImGui::SetNextItemWidth(200.0f);
+  ImGui::SetNextItemWidth(170.0f);
   ImGui::InputText("##export", app->export_path, sizeof(app->export_path));
+  Record(app, "export_path");
   ImGui::SameLine();
-  if (ImGui::Button("Export (.hair/.usda/.obj)")) TryWrite(app, Write::kExport, app->export_path);
-  if (ImGui::Button("Render...")) {
+  if (Button(app, "Export", "Export")) TryWrite(app, Write::kExport, app->export_path);
+  ImGui::SameLine();
+  ImGui::TextDisabled("(.hair .usda .obj)");
+  if (Button(app, "Render...", "Render")) {
     app->render.open = true;
     if (!app->render.running) StartRender(app);
   }
   ImGui::SameLine();
-  if (ImGui::Button("Undo") || (ImGui::IsKeyPressed(GLFW_KEY_Z) && ImGui::GetIO().KeyCtrl)) {
-    if (s.Undo()) Edited(app);
-  }
+  ImGui::BeginDisabled(!s.CanUndo());
+  if (Button(app, "Undo", "Undo") && s.Undo()) Edited(app);
+  ImGui::EndDisabled();
   ImGui::SameLine();
-  if (ImGui::Button("Redo") || (ImGui::IsKeyPressed(GLFW_KEY_Y) && ImGui::GetIO().KeyCtrl)) {
-    if (s.Redo()) Edited(app);
-  }
+  ImGui::BeginDisabled(!s.CanRedo());
+  if (Button(app, "Redo", "Redo") && s.Redo()) Edited(app);
+  ImGui::EndDisabled();
   ImGui::SameLine();
   ImGui::Text("%s", s.Modified() ? "(unsaved changes)" : "");
 
-  // Solve status.
+  // Solve status: always the same rows (the result lines and two of message), so that the
+  // controls below never move.
   ImGui::Separator();
   int done = 0, total = 0;
   std::string what;
@@ -681,7 +827,7 @@ void Panel(App* app) {
     ImGui::ProgressBar(total > 0 ? static_cast<float>(done) / total : 0.0f, ImVec2(-1, 0),
                        what.c_str());
   } else {
-    ImGui::ProgressBar(1.0f, ImVec2(-1, 0), "solved");
+    ImGui::ProgressBar(1.0f, ImVec2(-1, 0), s.Hair() ? "solved" : "no hairstyle");
   }
   if (const auto hair = s.Hair()) {
     const SolveStats& st = hair->stats;
@@ -696,8 +842,13 @@ void Panel(App* app) {
         st.max_penetration * 1e3);
     ImGui::Text("%d strands, %ld segments drawn", hair->strands ? hair->strands->NumStrands() : 0,
                 app->viewer.DrawnSegments());
+  } else {
+    for (int k = 0; k < 4; ++k) ImGui::TextDisabled("-");
   }
-  if (!app->message.empty()) ImGui::TextWrapped("%s", app->message.c_str());
+  // The last message: two lines, scrolled when longer.
+  ImGui::BeginChild("message", ImVec2(0, 2.0f * ImGui::GetTextLineHeightWithSpacing()), false);
+  ImGui::TextWrapped("%s", app->message.c_str());
+  ImGui::EndChild();
 
   // The hairstyle, in groomers' words.
   ImGui::Separator();
@@ -718,7 +869,7 @@ void Panel(App* app) {
     for (const std::string& field : LengthFields(s.CurrentDocument().parameters)) {
       const std::string label =
           field == "hair.length" ? "length (m)" : "length, " + field.substr(12) + " (m)";
-      FieldSlider(app, label.c_str(), field, 0.05f, 0.8f, 0.25f);
+      FieldSlider(app, label.c_str(), field, 0.05, 0.8, 0.25);
     }
     ImGui::EndDisabled();
     FieldInt(app, "hair seed", "hair.seed", 0, 100, 1);
@@ -727,20 +878,19 @@ void Panel(App* app) {
     // until set.
     if (const auto hair = s.Hair()) {
       const HairType& type = hair->styled.style.hair_type;
-      FieldSlider(app, "a/b", "hair.ellipticity", 1.0f, 3.0f,
-                  static_cast<float>(type.ellipticity));
+      FieldSlider(app, "a/b", "hair.ellipticity", 1.0, 3.0, type.ellipticity);
       ImGui::BeginDisabled(type.IsStraight());  // no helix to size (the reader refuses it)
-      FieldSlider(app, "natural R (m)", "hair.curl_radius", 0.0005f, 0.1f,
-                  type.IsStraight() ? 0.0f : static_cast<float>(type.curl_radius), "%.4f");
-      FieldSlider(app, "natural pitch (m)", "hair.curl_pitch", 0.0f, 0.2f,
-                  type.IsStraight() ? 0.0f : static_cast<float>(type.curl_pitch), "%.4f");
-      FieldSlider(app, "curl spread", "hair.curl_spread", 0.0f, 1.0f,
-                  type.IsStraight() ? 0.0f
-                                    : static_cast<float>(type.curl_radius_std / type.curl_radius));
+      FieldSlider(app, "natural R (m)", "hair.curl_radius", 0.0005, 0.1,
+                  type.IsStraight() ? 0.0 : type.curl_radius, "%.4f");
+      FieldSlider(app, "natural pitch (m)", "hair.curl_pitch", 0.0, 0.2,
+                  type.IsStraight() ? 0.0 : type.curl_pitch, "%.4f");
+      FieldSlider(app, "curl spread", "hair.curl_spread", 0.0, 1.0,
+                  type.IsStraight() ? 0.0 : type.curl_radius_std / type.curl_radius);
       ImGui::EndDisabled();
     }
   }
   if (ImGui::CollapsingHeader("Masters and wisps")) {
+    Record(app, "header.masters");
     ImGui::BeginDisabled(explicit_masters);
     FieldInt(app, "masters", "masters.count", 10, 3000, 1000);
     FieldInt(app, "root seed", "masters.seed", 0, 100, 0);
@@ -751,84 +901,113 @@ void Panel(App* app) {
       const std::vector<double>& radii = hair->styled.masters.wisp_radii;
       double mean = 0.0;
       for (const double r : radii) mean += r / static_cast<double>(radii.size());
-      FieldSlider(app, "wisp radius (m)", "wisps.radius", 0.0005f, 0.02f,
-                  static_cast<float>(mean), "%.4f");
+      FieldSlider(app, "wisp radius (m)", "wisps.radius", 0.0005, 0.02, mean, "%.4f");
       ImGui::SameLine();
       if (ImGui::SmallButton("auto")) SetField(app, "wisps.radius", "auto");
+      Record(app, "wisps.radius.auto");
     }
-    FieldSlider(app, "tip scale", "wisps.tip_scale", 0.0f, 2.0f, 0.5f);
-    FieldSlider(app, "jitter (m)", "wisps.jitter", 0.0f, 0.01f, 0.0f, "%.4f");
-    FieldSlider(app, "length var.", "wisps.length_variation", 0.0f, 0.5f, 0.1f);
+    FieldSlider(app, "tip scale", "wisps.tip_scale", 0.0, 2.0, 0.5);
+    FieldSlider(app, "jitter (m)", "wisps.jitter", 0.0, 0.01, 0.0, "%.4f");
+    FieldSlider(app, "length var.", "wisps.length_variation", 0.0, 0.5, 0.1);
     FieldInt(app, "hull layers", "layers.count", 1, 10, 4);
-    FieldSlider(app, "layer gap (m)", "layers.thickness", 0.0f, 0.01f, 0.004f, "%.4f");
+    FieldSlider(app, "layer gap (m)", "layers.thickness", 0.0, 0.01, 0.004, "%.4f");
+  } else {
+    Record(app, "header.masters");
   }
   if (ImGui::CollapsingHeader("Comb")) {
+    Record(app, "header.comb");
     ImGui::BeginDisabled(explicit_masters);
-    const float down[3] = {0.0f, 0.0f, -1.0f};
-    FieldVector3(app, "direction", "comb.direction", -1.0f, 1.0f, down);
-    FieldSlider(app, "tilt (rad)", "comb.tilt", 0.0f, 1.5707f, 1.2f);
-    FieldSlider(app, "face sweep", "comb.face_sweep", 0.0f, 2.0f, 0.0f);
-    FieldSlider(app, "parting offset", "comb.parting.offset", -0.08f, 0.08f, 0.0f);
+    const double down[3] = {0.0, 0.0, -1.0};
+    FieldVector3(app, "direction", "comb.direction", -1.0, 1.0, down);
+    FieldSlider(app, "tilt (rad)", "comb.tilt", 0.0, 1.5707, 1.2);
+    FieldSlider(app, "face sweep", "comb.face_sweep", 0.0, 2.0, 0.0);
+    FieldSlider(app, "parting offset", "comb.parting.offset", -0.08, 0.08, 0.0);
     FieldCheckbox(app, "waves laid into the head", "comb.curl_inward", false);
     ImGui::EndDisabled();
+  } else {
+    Record(app, "header.comb");
   }
 
   // Operations.
   ImGui::Separator();
   ImGui::Text("Styling");
-  ImGui::Checkbox("brush (paint roots: left drag, ctrl erases)", &app->brush_mode);
-  ImGui::SliderFloat("brush radius (px)", &app->brush_radius, 5.0f, 150.0f);
+  ImGui::Checkbox("brush: paint roots (left drag; Ctrl erases)", &app->brush_mode);
+  Record(app, "brush");
+  Slider(app, "brush radius (px)", &app->brush_radius, 5.0f, 150.0f, "%.0f");
   ImGui::Text("%zu masters brushed", s.brush.size());
   ImGui::SameLine();
-  if (ImGui::Button("clear")) {
+  if (Button(app, "clear", "brush.clear")) {
     s.brush.clear();
     app->viewer.SetBrush(s.brush);
   }
   ImGui::Checkbox("operations act on the brushed masters only", &app->brush_only);
-  ImGui::SliderFloat("curl radius (mm)", &app->curl_radius_mm, 1.0f, 50.0f);
-  ImGui::SliderFloat("curl pitch (mm)", &app->curl_pitch_mm, -60.0f, 60.0f);
-  if (ImGui::Button("Curl"))
+  Slider(app, "curl radius (mm)", &app->curl_radius_mm, 1.0f, 50.0f, "%.1f");
+  Slider(app, "curl pitch (mm)", &app->curl_pitch_mm, -60.0f, 60.0f, "%.1f");
+  if (Button(app, "Curl", "Curl")) {
     AddOperation(app, Curl(app, app->curl_radius_mm * 1e-3, app->curl_pitch_mm * 1e-3));
+  }
   ImGui::SameLine();
-  if (ImGui::Button("Straighten")) {
+  if (Button(app, "Straighten", "Straighten")) {
     AddOperation(app, Curl(app, std::numeric_limits<double>::infinity(), 0.0));
   }
-  if (ImGui::Button("Wet")) AddOperation(app, Brushed(app, Simple(StyleOperation::Kind::kWet)));
   ImGui::SameLine();
-  if (ImGui::Button("Dry")) AddOperation(app, Brushed(app, Simple(StyleOperation::Kind::kDry)));
-  ImGui::Text("cut tool (drag in the view; shift tilts):");
+  if (Button(app, "Wet", "Wet")) {
+    AddOperation(app, Brushed(app, Simple(StyleOperation::Kind::kWet)));
+  }
+  ImGui::SameLine();
+  if (Button(app, "Dry", "Dry")) {
+    AddOperation(app, Brushed(app, Simple(StyleOperation::Kind::kDry)));
+  }
+  ImGui::Text("cut tool (drag in the view; Shift tilts):");
   ImGui::RadioButton("off", &app->cut_tool, 0);
+  Record(app, "cut_tool.off");
   ImGui::SameLine();
   ImGui::RadioButton("plane", &app->cut_tool, 1);
+  Record(app, "cut_tool.plane");
   ImGui::SameLine();
   ImGui::RadioButton("sphere", &app->cut_tool, 2);
-  if (app->cut_tool == 1) {
-    ImGui::SliderFloat("plane height (m)", &app->plane_height, -0.5f, 0.2f);
-    ImGui::SliderFloat("tilt (deg)", &app->plane_tilt, -80.0f, 80.0f);
-    ImGui::SliderFloat("roll (deg)", &app->plane_roll, -80.0f, 80.0f);
-  } else if (app->cut_tool == 2) {
-    ImGui::SliderFloat3("centre (m)", app->sphere_centre, -0.3f, 0.3f);
-    ImGui::SliderFloat("radius (m)", &app->sphere_radius, 0.02f, 0.6f);
-  }
-  if (app->cut_tool != 0 && (ImGui::Button("Apply cut (Enter)") ||
-                             (!ImGui::GetIO().WantCaptureKeyboard &&
-                              ImGui::IsKeyPressed(GLFW_KEY_ENTER)))) {
+  Record(app, "cut_tool.sphere");
+  ImGui::SameLine();
+  ImGui::BeginDisabled(app->cut_tool == 0);
+  if (Button(app, "Apply cut (Enter)", "Apply cut")) {
     StyleOperation op = Simple(StyleOperation::Kind::kCut);
     op.cut_region = GizmoRegion(app);
     AddOperation(app, Brushed(app, op));
   }
-  ImGui::SliderFloat("cut height (m)", &app->cut_z, -0.4f, 0.1f);
-  if (ImGui::Button("Cut below")) AddOperation(app, Brushed(app, CutZ(app->cut_z)));
-  ImGui::SliderFloat("max length (m)", &app->cut_length, 0.02f, 0.8f);
-  if (ImGui::Button("Cut to length")) {
+  ImGui::EndDisabled();
+  // The tool's rows: always three (plane, or off: height, tilt, roll, disabled when off;
+  // sphere: centre, radius).
+  const float tool_top = ImGui::GetCursorPosY();
+  if (app->cut_tool != 2) {
+    ImGui::BeginDisabled(app->cut_tool == 0);
+    Slider(app, "plane height (m)", &app->plane_height, -0.5f, 0.2f);
+    Slider(app, "tilt (deg)", &app->plane_tilt, -80.0f, 80.0f, "%.1f");
+    Slider(app, "roll (deg)", &app->plane_roll, -80.0f, 80.0f, "%.1f");
+    ImGui::EndDisabled();
+  } else {
+    ImGui::SetNextItemWidth(kFieldWidth);
+    ImGui::SliderFloat3("centre (m)", app->sphere_centre, -0.3f, 0.3f);
+    Record(app, "centre (m)");
+    Slider(app, "radius (m)", &app->sphere_radius, 0.02f, 0.6f);
+  }
+  PadRows(tool_top, 3);
+  Slider(app, "cut height (m)", &app->cut_z, -0.4f, 0.1f, "%.3f", kFieldWidth - 30.0f);
+  ImGui::SameLine();
+  if (Button(app, "Cut below", "Cut below")) AddOperation(app, Brushed(app, CutZ(app->cut_z)));
+  Slider(app, "max length (m)", &app->cut_length, 0.02f, 0.8f, "%.3f", kFieldWidth - 30.0f);
+  ImGui::SameLine();
+  if (Button(app, "Cut to length", "Cut to length")) {
     StyleOperation op = Simple(StyleOperation::Kind::kCut);
     op.cut_region.kind = CutRegion::Kind::kMaxLength;
     op.cut_region.length = app->cut_length;
     AddOperation(app, Brushed(app, op));
   }
-  ImGui::SliderFloat("grow step (mm)", &app->grow_step_mm, 1.0f, 50.0f);
+  Slider(app, "grow step (mm)", &app->grow_step_mm, 1.0f, 50.0f, "%.1f");
+  ImGui::SetNextItemWidth(kFieldWidth - 30.0f);
   ImGui::SliderInt("grow steps", &app->grow_steps, 1, 10);
-  if (ImGui::Button("Grow")) {
+  Record(app, "grow steps");
+  ImGui::SameLine();
+  if (Button(app, "Grow", "Grow")) {
     StyleOperation op = Simple(StyleOperation::Kind::kGrow);
     op.grow_step = app->grow_step_mm * 1e-3;
     op.grow_steps = app->grow_steps;
@@ -837,12 +1016,13 @@ void Panel(App* app) {
 
   // View.
   ImGui::Separator();
-  ImGui::Checkbox("masters only", &app->look.masters_only);
+  ImGui::Checkbox("masters only (M)", &app->look.masters_only);
+  Record(app, "masters_only");
   ImGui::SameLine();
   ImGui::Checkbox("highlight masters", &app->look.highlight_masters);
   ImGui::TextWrapped(
       "Mouse: left orbit, right pan, wheel zoom. Keys: F frame all, arrows orbit, +/- zoom, "
-      "M masters. Red: unconverged, magenta: unstable, cyan: brushed.");
+      "M masters, Ctrl+Z undo, Ctrl+Y redo. Red: unconverged, magenta: unstable, cyan: brushed.");
   if (ImGui::CollapsingHeader("History")) {
     const std::vector<std::string> labels = s.HistoryLabels();
     for (int k = 0; k < static_cast<int>(labels.size()); ++k) {
@@ -855,55 +1035,365 @@ void Panel(App* app) {
 // ---------------------------------------------------------------------------------------------
 // Input
 
-void HandleInput(App* app) {
-  ImGuiIO& io = ImGui::GetIO();
-  static double last_x = 0, last_y = 0;
-  double x, y;
-  glfwGetCursorPos(app->window, &x, &y);
-  int ww, wh, fw, fh;
-  glfwGetWindowSize(app->window, &ww, &wh);
-  glfwGetFramebufferSize(app->window, &fw, &fh);
-  const float scale = ww > 0 ? static_cast<float>(fw) / ww : 1.0f;
-  const float dx = static_cast<float>(x - last_x), dy = static_cast<float>(y - last_y);
-  last_x = x;
-  last_y = y;
-  if (!io.WantCaptureMouse) {
-    const bool left = glfwGetMouseButton(app->window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-    const bool right = glfwGetMouseButton(app->window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
-    if (left && app->brush_mode) {
-      Brush(app, static_cast<float>(x) * scale, static_cast<float>(y) * scale, io.KeyCtrl);
-    } else if (left && app->cut_tool != 0) {
-      DragGizmo(app, dx * scale, dy * scale, io.KeyShift);
-    } else if (left) {
-      app->camera.Orbit(-dx * 0.008f, dy * 0.008f);
+App* AppOf(GLFWwindow* window) { return static_cast<App*>(glfwGetWindowUserPointer(window)); }
+
+void Queue(GLFWwindow* window, const InputEvent& event) {
+  AppOf(window)->events.push_back(event);
+}
+
+// GLFW's callbacks: every event is queued in order; ImGui's backend polls nothing of ours (it is
+// initialised without callbacks) and is given the state of the events each frame takes.
+void InstallCallbacks(GLFWwindow* window) {
+  glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
+    InputEvent e;
+    e.kind = InputEvent::Kind::kMove;
+    e.x = x;
+    e.y = y;
+    Queue(w, e);
+  });
+  glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
+    InputEvent e;
+    e.kind = InputEvent::Kind::kButton;
+    e.code = button;
+    e.action = action;
+    e.mods = mods;
+    Queue(w, e);  // at the cursor of the last move before it (set when taken)
+  });
+  glfwSetScrollCallback(window, [](GLFWwindow* w, double dx, double dy) {
+    InputEvent e;
+    e.kind = InputEvent::Kind::kScroll;
+    e.x = dx;
+    e.y = dy;
+    Queue(w, e);
+  });
+  glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int mods) {
+    InputEvent e;
+    e.kind = InputEvent::Kind::kKey;
+    e.code = key;
+    e.action = action;
+    e.mods = mods;
+    Queue(w, e);
+  });
+  glfwSetCharCallback(window, [](GLFWwindow* w, unsigned c) {
+    InputEvent e;
+    e.kind = InputEvent::Kind::kChar;
+    e.code = static_cast<int>(c);
+    Queue(w, e);
+  });
+  glfwSetWindowFocusCallback(window, [](GLFWwindow* w, int focused) {
+    ImGui_ImplGlfw_WindowFocusCallback(w, focused);
+    AppOf(w)->redraw_frames = std::max(AppOf(w)->redraw_frames, 2);
+  });
+  glfwSetCursorEnterCallback(window, [](GLFWwindow* w, int entered) {
+    ImGui_ImplGlfw_CursorEnterCallback(w, entered);
+  });
+  glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) {
+    AppOf(w)->redraw_frames = std::max(AppOf(w)->redraw_frames, 1);
+  });
+  glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) {
+    AppOf(w)->redraw_frames = std::max(AppOf(w)->redraw_frames, 2);
+  });
+}
+
+// Takes the events of one frame from the queue, in order, and updates the state given to ImGui
+// (cursor, buttons, keys). ImGui sees one state per frame, so the run stops (as ImGui 1.87's
+// input queue "trickles" fast input) before a second change of a button or key already changed
+// in this frame, a move after a button change, a release after a move (a slider must see where
+// it was dragged before it is released), and typed characters after a change of a key ImGui
+// reads (Enter, Backspace, ...). A click or key tap shorter than a frame is thus spread over
+// two frames instead of lost, and a press is seen at its own cursor position.
+std::vector<InputEvent> TakeFrameEvents(App* app) {
+  const ImGuiIO& io = ImGui::GetIO();
+  const auto mapped = [&io](int key) {
+    return std::find(std::begin(io.KeyMap), std::end(io.KeyMap), key) != std::end(io.KeyMap);
+  };
+  std::vector<InputEvent> taken;
+  std::vector<int> changed_keys;
+  int changed_buttons = 0;  // bit per button
+  bool moved = false, mapped_changed = false;
+  size_t k = 0;
+  for (; k < app->events.size(); ++k) {
+    InputEvent& e = app->events[k];
+    bool stop = false;
+    switch (e.kind) {
+      case InputEvent::Kind::kMove:
+      case InputEvent::Kind::kScroll:
+        stop = changed_buttons != 0;
+        break;
+      case InputEvent::Kind::kButton:
+        stop = (e.code >= 0 && e.code < 5 && (changed_buttons & (1 << e.code))) ||
+               (e.action == GLFW_RELEASE && moved);
+        break;
+      case InputEvent::Kind::kKey:
+        stop = e.action != GLFW_REPEAT &&
+               std::find(changed_keys.begin(), changed_keys.end(), e.code) != changed_keys.end();
+        break;
+      case InputEvent::Kind::kChar:
+        stop = mapped_changed;
+        break;
     }
-    if (right) app->camera.Pan(-dx * 0.0015f, dy * 0.0015f);
-    if (io.MouseWheel != 0.0f) app->camera.Zoom(std::pow(0.9f, io.MouseWheel));
+    if (stop) break;
+    switch (e.kind) {
+      case InputEvent::Kind::kMove:
+        app->cursor_x = e.x;
+        app->cursor_y = e.y;
+        moved = true;
+        break;
+      case InputEvent::Kind::kButton:
+        e.x = app->cursor_x;
+        e.y = app->cursor_y;
+        if (e.code >= 0 && e.code < 5) {
+          app->mouse_down[e.code] = e.action == GLFW_PRESS;
+          changed_buttons |= 1 << e.code;
+        }
+        break;
+      case InputEvent::Kind::kKey:
+        if (e.action == GLFW_REPEAT) break;
+        if (e.code >= 0 && e.code < 512) app->keys_down[e.code] = e.action == GLFW_PRESS;
+        changed_keys.push_back(e.code);
+        mapped_changed = mapped_changed || mapped(e.code);
+        break;
+      case InputEvent::Kind::kChar:
+      case InputEvent::Kind::kScroll:
+        break;
+    }
+    taken.push_back(e);
   }
-  if (!io.WantCaptureKeyboard) {
-    if (ImGui::IsKeyPressed(GLFW_KEY_F)) app->camera.Frame(app->viewer.Bounds());
-    if (ImGui::IsKeyPressed(GLFW_KEY_M)) app->look.masters_only = !app->look.masters_only;
-    if (ImGui::IsKeyDown(GLFW_KEY_LEFT)) app->camera.Orbit(0.03f, 0.0f);
-    if (ImGui::IsKeyDown(GLFW_KEY_RIGHT)) app->camera.Orbit(-0.03f, 0.0f);
-    if (ImGui::IsKeyDown(GLFW_KEY_UP)) app->camera.Orbit(0.0f, 0.03f);
-    if (ImGui::IsKeyDown(GLFW_KEY_DOWN)) app->camera.Orbit(0.0f, -0.03f);
-    if (ImGui::IsKeyPressed(GLFW_KEY_EQUAL) || ImGui::IsKeyPressed(GLFW_KEY_KP_ADD)) {
-      app->camera.Zoom(0.9f);
-    }
-    if (ImGui::IsKeyPressed(GLFW_KEY_MINUS) || ImGui::IsKeyPressed(GLFW_KEY_KP_SUBTRACT)) {
-      app->camera.Zoom(1.1f);
+  app->events.erase(app->events.begin(), app->events.begin() + static_cast<long>(k));
+  return taken;
+}
+
+// Gives ImGui the state after this frame's events (after ImGui_ImplGlfw_NewFrame, which would
+// poll the current state instead).
+void FeedImGui(App* app, const std::vector<InputEvent>& events) {
+  ImGuiIO& io = ImGui::GetIO();
+  io.MousePos = ImVec2(static_cast<float>(app->cursor_x), static_cast<float>(app->cursor_y));
+  for (int b = 0; b < 5; ++b) io.MouseDown[b] = app->mouse_down[b];
+  for (int k = 0; k < 512; ++k) io.KeysDown[k] = app->keys_down[k];
+  const bool* d = app->keys_down;
+  io.KeyCtrl = d[GLFW_KEY_LEFT_CONTROL] || d[GLFW_KEY_RIGHT_CONTROL];
+  io.KeyShift = d[GLFW_KEY_LEFT_SHIFT] || d[GLFW_KEY_RIGHT_SHIFT];
+  io.KeyAlt = d[GLFW_KEY_LEFT_ALT] || d[GLFW_KEY_RIGHT_ALT];
+  io.KeySuper = d[GLFW_KEY_LEFT_SUPER] || d[GLFW_KEY_RIGHT_SUPER];
+  for (const InputEvent& e : events) {
+    if (e.kind == InputEvent::Kind::kScroll) {
+      io.MouseWheelH += static_cast<float>(e.x);
+      io.MouseWheel += static_cast<float>(e.y);
+    } else if (e.kind == InputEvent::Kind::kChar) {
+      io.AddInputCharacter(static_cast<unsigned>(e.code));
     }
   }
 }
 
-// One frame: sync, panel, draw (the 3D view to the right of the panel).
+// Framebuffer pixels per window coordinate.
+float PixelScale(App* app) {
+  int ww, wh, fw, fh;
+  glfwGetWindowSize(app->window, &ww, &wh);
+  glfwGetFramebufferSize(app->window, &fw, &fh);
+  return ww > 0 ? static_cast<float>(fw) / ww : 1.0f;
+}
+
+// The drag in the view at cursor (x, y): the state at the press moved by the cursor's offset
+// from the press.
+void ApplyDrag(App* app, double x, double y) {
+  ViewDrag& d = app->drag;
+  const float scale = PixelScale(app);
+  const float dx = static_cast<float>(x - d.x0), dy = static_cast<float>(y - d.y0);
+  switch (d.mode) {
+    case ViewDrag::Mode::kOrbit:
+      app->camera = d.camera;
+      app->camera.Orbit(-dx * 0.008f, dy * 0.008f);
+      break;
+    case ViewDrag::Mode::kPan: {
+      // The scene follows the cursor: one pixel is the distance a pixel spans at the target.
+      int fw, fh;
+      glfwGetFramebufferSize(app->window, &fw, &fh);
+      const float k = 2.0f * std::tan(0.5f * d.camera.fov) / static_cast<float>(std::max(1, fh));
+      app->camera = d.camera;
+      app->camera.Pan(-dx * scale * k, dy * scale * k);
+      break;
+    }
+    case ViewDrag::Mode::kBrush:
+      Brush(app, static_cast<float>(x) * scale, static_cast<float>(y) * scale,
+            (d.mods & GLFW_MOD_CONTROL) != 0);
+      break;
+    case ViewDrag::Mode::kGizmo:
+      app->plane_height = d.plane_height;
+      app->plane_tilt = d.plane_tilt;
+      app->plane_roll = d.plane_roll;
+      app->sphere_centre[2] = d.sphere_centre_z;
+      app->sphere_radius = d.sphere_radius;
+      DragGizmo(app, dx * scale, dy * scale, (d.mods & GLFW_MOD_SHIFT) != 0);
+      break;
+    case ViewDrag::Mode::kNone:
+      break;
+  }
+}
+
+// A shortcut key, once per press (never on key repeat), unless ImGui has the keyboard (a text
+// field). The arrows and +/- (view steps) also step on key repeat while held.
+void Shortcut(App* app, const InputEvent& e) {
+  const bool press = e.action == GLFW_PRESS, repeat = e.action == GLFW_REPEAT;
+  const bool ctrl = (e.mods & GLFW_MOD_CONTROL) != 0;
+  Session& s = app->session;
+  switch (e.code) {
+    case GLFW_KEY_F:
+      if (press && !ctrl) app->camera.Frame(app->viewer.Bounds());
+      break;
+    case GLFW_KEY_M:
+      if (press && !ctrl) app->look.masters_only = !app->look.masters_only;
+      break;
+    case GLFW_KEY_Z:
+      if (press && ctrl) {
+        const bool shift = (e.mods & GLFW_MOD_SHIFT) != 0;
+        if (shift ? s.Redo() : s.Undo()) Edited(app);
+      }
+      break;
+    case GLFW_KEY_Y:
+      if (press && ctrl && s.Redo()) Edited(app);
+      break;
+    case GLFW_KEY_ENTER:
+    case GLFW_KEY_KP_ENTER:
+      if (press && app->cut_tool != 0) {
+        StyleOperation op = Simple(StyleOperation::Kind::kCut);
+        op.cut_region = GizmoRegion(app);
+        AddOperation(app, Brushed(app, op));
+      }
+      break;
+    case GLFW_KEY_LEFT:
+    case GLFW_KEY_RIGHT:
+    case GLFW_KEY_UP:
+    case GLFW_KEY_DOWN:
+      if (press || repeat) {
+        const float step = 0.05f;  // rad per press or repeat
+        app->camera.Orbit(e.code == GLFW_KEY_LEFT ? step : e.code == GLFW_KEY_RIGHT ? -step : 0.0f,
+                          e.code == GLFW_KEY_UP ? step : e.code == GLFW_KEY_DOWN ? -step : 0.0f);
+      }
+      break;
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD:
+      if (press || repeat) app->camera.Zoom(0.9f);
+      break;
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT:
+      if (press || repeat) app->camera.Zoom(1.1f);
+      break;
+    default:
+      break;
+  }
+}
+
+// The view's part of this frame's events, in order (after ImGui::NewFrame, which says whether
+// ImGui took a press: io.MouseDownOwned).
+void HandleInput(App* app, const std::vector<InputEvent>& events) {
+  ImGuiIO& io = ImGui::GetIO();
+  const bool keyboard_free = !io.WantCaptureKeyboard;
+  for (const InputEvent& e : events) {
+    switch (e.kind) {
+      case InputEvent::Kind::kMove:
+        if (app->drag.mode != ViewDrag::Mode::kNone) ApplyDrag(app, e.x, e.y);
+        break;
+      case InputEvent::Kind::kButton:
+        if (e.action == GLFW_PRESS && app->drag.mode == ViewDrag::Mode::kNone &&
+            (e.code == GLFW_MOUSE_BUTTON_LEFT || e.code == GLFW_MOUSE_BUTTON_RIGHT) &&
+            !io.MouseDownOwned[e.code]) {
+          ViewDrag& d = app->drag;
+          d.button = e.code;
+          d.x0 = e.x;
+          d.y0 = e.y;
+          d.mods = e.mods;
+          d.camera = app->camera;
+          d.plane_height = app->plane_height;
+          d.plane_tilt = app->plane_tilt;
+          d.plane_roll = app->plane_roll;
+          d.sphere_centre_z = app->sphere_centre[2];
+          d.sphere_radius = app->sphere_radius;
+          d.mode = e.code == GLFW_MOUSE_BUTTON_RIGHT ? ViewDrag::Mode::kPan
+                   : app->brush_mode                 ? ViewDrag::Mode::kBrush
+                   : app->cut_tool != 0              ? ViewDrag::Mode::kGizmo
+                                                     : ViewDrag::Mode::kOrbit;
+          ApplyDrag(app, e.x, e.y);
+        } else if (e.action == GLFW_RELEASE && e.code == app->drag.button &&
+                   app->drag.mode != ViewDrag::Mode::kNone) {
+          ApplyDrag(app, e.x, e.y);
+          app->drag.mode = ViewDrag::Mode::kNone;
+          app->drag.button = -1;
+        }
+        break;
+      case InputEvent::Kind::kScroll:
+        if (!io.WantCaptureMouse) app->camera.Zoom(std::pow(0.9f, static_cast<float>(e.y)));
+        break;
+      case InputEvent::Kind::kKey:
+        if (keyboard_free) Shortcut(app, e);
+        break;
+      case InputEvent::Kind::kChar:
+        break;
+    }
+  }
+}
+
+// --report FILE: the panel's widgets (window coordinates), the view and the document as JSON,
+// written atomically after each frame that changed it (the tests read it; they act through the X
+// server's input only).
+void WriteReport(App* app) {
+  if (app->report_path.empty()) return;
+  const Session& s = app->session;
+  nlohmann::ordered_json r;
+  r["frame"] = app->frames;
+  r["busy"] = s.Busy();
+  r["up_to_date"] = s.UpToDate();
+  const auto hair = s.Hair();
+  r["strands"] = hair && hair->strands ? hair->strands->NumStrands() : 0;
+  r["message"] = app->message;
+  r["modified"] = s.Modified();
+  r["document"] = s.CurrentDocument().parameters;
+  r["operations"] = s.CurrentDocument().operations.size();
+  r["history"] = s.HistoryLabels();
+  r["history_cursor"] = s.HistoryCursor();
+  const OrbitCamera& c = app->camera;
+  r["camera"] = {{"yaw", c.yaw},
+                 {"pitch", c.pitch},
+                 {"distance", c.distance},
+                 {"target", {c.target.x(), c.target.y(), c.target.z()}}};
+  // Where the centre of the hair and body box is drawn (window coordinates).
+  int ww, wh, fw, fh;
+  glfwGetWindowSize(app->window, &ww, &wh);
+  glfwGetFramebufferSize(app->window, &fw, &fh);
+  const int x0 = PanelPixels(app);
+  const Eigen::Vector4f p =
+      c.Projection(static_cast<float>(std::max(1, fw - x0)) / std::max(1, fh)) * c.View() *
+      app->viewer.Centre().homogeneous();
+  const float scale = PixelScale(app);
+  r["centre_on_screen"] = {(x0 + (0.5f + 0.5f * p.x() / p.w()) * (fw - x0)) / scale,
+                           (0.5f - 0.5f * p.y() / p.w()) * fh / scale};
+  r["masters_only"] = app->look.masters_only;
+  r["cut_tool"] = app->cut_tool;
+  r["plane_height"] = app->plane_height;
+  r["brush"] = s.brush.size();
+  r["export_path"] = app->export_path;
+  r["save_path"] = app->save_path;
+  r["widgets"] = app->widgets;
+  std::string text = r.dump(1);
+  if (text == app->last_report) return;
+  std::string error;
+  if (!WriteFileAtomically(app->report_path, text + "\n", true, &error)) {
+    std::fprintf(stderr, "ringlet-studio: --report: %s\n", error.c_str());
+    return;
+  }
+  app->last_report = std::move(text);
+}
+
+// One frame: sync, the events of the frame, panel, draw (the 3D view right of the panel).
 void Frame(App* app) {
   Sync(app);
   SyncRender(app);
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
+  const std::vector<InputEvent> events = TakeFrameEvents(app);
+  if (!events.empty()) app->redraw_frames = std::max(app->redraw_frames, 3);
+  FeedImGui(app, events);
   ImGui::NewFrame();
-  HandleInput(app);
+  HandleInput(app, events);
   Panel(app);
   RenderWindow(app);
   Modals(app);
@@ -914,6 +1404,11 @@ void Frame(App* app) {
   glfwGetFramebufferSize(app->window, &w, &h);
   app->viewer.Draw(app->camera, app->look, PanelPixels(app), w, h);
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  ++app->frames;
+  WriteReport(app);
+  if (app->min_frame_seconds > 0.0) {
+    std::this_thread::sleep_for(std::chrono::duration<double>(app->min_frame_seconds));
+  }
 }
 
 // glReadPixels of the back buffer, written with the library's PNG writer (or as PPM) (sRGB bytes -> linear
@@ -951,6 +1446,63 @@ bool Screenshot(App* app, const std::string& path, std::string* error) {
     }
   }
   return WritePng(path, image, 1.0, true, error);
+}
+
+// The interactive loop. A frame is drawn when something changed: events (and a few frames after
+// them, for ImGui's layout), a solve's progress or result, a render pass. Idle, it sleeps in
+// glfwWaitEvents (no CPU); while the worker or the renderer runs, it looks at them ten times a
+// second.
+void RunInteractive(App* app) {
+  while (!app->quit) {
+    if (app->events.empty() && app->redraw_frames <= 0) {
+      if (app->session.Busy() || app->render.running) {
+        glfwWaitEventsTimeout(0.1);
+        app->redraw_frames = std::max(app->redraw_frames, 1);
+      } else {
+        glfwWaitEvents();
+      }
+    } else {
+      glfwPollEvents();
+    }
+    // Closing the window with unsaved changes asks first.
+    if (glfwWindowShouldClose(app->window)) {
+      glfwSetWindowShouldClose(app->window, GLFW_FALSE);
+      Guard(app, Guarded::kQuit);
+      app->redraw_frames = std::max(app->redraw_frames, 2);
+      if (app->quit) break;
+    }
+    if (app->events.empty() && app->redraw_frames <= 0) continue;
+    app->redraw_frames = std::max(0, app->redraw_frames - 1);
+    Frame(app);
+    glfwSwapBuffers(app->window);
+  }
+}
+
+// HAIRSTYLE --screenshot OUT without --script: draws until the first solve is on screen,
+// writes the frame and returns the exit code.
+int FirstSolveScreenshot(App* app, const std::string& path) {
+  while (app->session.Busy() || !app->session.Hair()) {
+    glfwWaitEventsTimeout(0.05);
+    Frame(app);
+    glfwSwapBuffers(app->window);
+    if (!app->session.Busy() && !app->session.Hair()) break;
+  }
+  const std::string solve_error = app->session.LastError();
+  if (!app->session.Hair()) {
+    std::fprintf(stderr, "ringlet-studio: --screenshot: no hair to show: %s\n",
+                 solve_error.c_str());
+    return 1;
+  }
+  Frame(app);  // settle the panel (ImGui lays out on the first frame)
+  glfwSwapBuffers(app->window);
+  Frame(app);
+  std::string error;
+  if (!Screenshot(app, path, &error)) {
+    std::fprintf(stderr, "ringlet-studio: --screenshot: %s\n", error.c_str());
+    return 1;
+  }
+  std::printf("screenshot: %s\n", path.c_str());
+  return 0;
 }
 
 // Runs a script; returns the exit code (0, or 1 at the first failing line).
@@ -1231,14 +1783,24 @@ int RunScript(App* app, const std::string& script_path, const std::string& final
 }
 
 int Main(int argc, char** argv) {
-  std::string hairstyle, script, screenshot;
+  std::string hairstyle, script, screenshot, report;
   int width = 1280, height = 800;
+  double min_frame_seconds = 0.0;
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
     if (a == "--script" && k + 1 < argc) {
       script = argv[++k];
     } else if (a == "--screenshot" && k + 1 < argc) {
       screenshot = argv[++k];
+    } else if (a == "--report" && k + 1 < argc) {
+      report = argv[++k];
+    } else if (a == "--min-frame-seconds" && k + 1 < argc) {
+      char* end = nullptr;
+      min_frame_seconds = std::strtod(argv[++k], &end);
+      if (!end || *end != '\0' || !(min_frame_seconds >= 0.0 && min_frame_seconds <= 10.0)) {
+        std::fprintf(stderr, "ringlet-studio: --min-frame-seconds: expected seconds in [0, 10]\n");
+        return 1;
+      }
     } else if (a == "--size" && k + 1 < argc) {
       if (std::sscanf(argv[++k], "%dx%d", &width, &height) != 2 || width < 64 || height < 64) {
         std::fprintf(stderr, "ringlet-studio: --size: expected WxH (e.g. 1280x800)\n");
@@ -1247,7 +1809,13 @@ int Main(int argc, char** argv) {
     } else if (a == "-h" || a == "--help") {
       std::printf(
           "usage: ringlet-studio [HAIRSTYLE.json] [--script FILE] [--screenshot OUT.png] "
-          "[--size WxH]\n");
+          "[--size WxH] [--report FILE] [--min-frame-seconds S]\n"
+          "  --screenshot OUT.png  with --script: the last frame; without: the first solved\n"
+          "                        frame of HAIRSTYLE.json, then exit\n"
+          "  --report FILE         after each frame, the widgets' rectangles and the document\n"
+          "                        as JSON (for tests that drive the window with input events)\n"
+          "  --min-frame-seconds S each frame lasts at least S (tests of input at low frame\n"
+          "                        rates)\n");
       return 0;
     } else if (!a.empty() && a[0] != '-' && hairstyle.empty()) {
       hairstyle = a;
@@ -1255,6 +1823,12 @@ int Main(int argc, char** argv) {
       std::fprintf(stderr, "ringlet-studio: unknown argument \"%s\" (see --help)\n", a.c_str());
       return 1;
     }
+  }
+  if (!screenshot.empty() && script.empty() && hairstyle.empty()) {
+    std::fprintf(stderr,
+                 "ringlet-studio: --screenshot: expected a HAIRSTYLE.json to open "
+                 "(or a --script)\n");
+    return 1;
   }
   if (!glfwInit()) {
     std::fprintf(stderr, "ringlet-studio: cannot initialise GLFW (no display?)\n");
@@ -1276,34 +1850,36 @@ int Main(int argc, char** argv) {
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;
+  ImGui::GetIO().ConfigInputTextCursorBlink = false;  // a blinking cursor would redraw forever
   ImGui::StyleColorsDark();
-  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  // No backend callbacks: the studio's own queue every event (InstallCallbacks) and give ImGui
+  // its state frame by frame (FeedImGui).
+  ImGui_ImplGlfw_InitForOpenGL(window, false);
   ImGui_ImplOpenGL3_Init("#version 330 core");
   int code = 0;
   {
     App app;
     app.window = window;
+    app.report_path = report;
+    app.min_frame_seconds = script.empty() ? min_frame_seconds : 0.0;
+    glfwSetWindowUserPointer(window, &app);
+    glfwGetCursorPos(window, &app.cursor_x, &app.cursor_y);
+    InstallCallbacks(window);
     std::string error;
     if (!app.viewer.Init(&error)) {
       std::fprintf(stderr, "ringlet-studio: %s\n", error.c_str());
       code = 1;
     } else {
       LoadLook(&app, "");
-      if (!hairstyle.empty() && !Open(&app, hairstyle) && !script.empty()) code = 1;
+      // A file that does not open ends the scripted and screenshot modes (with its message).
+      const bool opened = hairstyle.empty() || Open(&app, hairstyle);
+      if (!opened && (!script.empty() || !screenshot.empty())) code = 1;
       if (code == 0 && !script.empty()) {
         code = RunScript(&app, script, screenshot);
+      } else if (code == 0 && !screenshot.empty()) {
+        code = FirstSolveScreenshot(&app, screenshot);
       } else if (code == 0) {
-        while (!app.quit) {
-          glfwPollEvents();
-          // Closing the window with unsaved changes asks first.
-          if (glfwWindowShouldClose(window)) {
-            glfwSetWindowShouldClose(window, GLFW_FALSE);
-            Guard(&app, Guarded::kQuit);
-            if (app.quit) break;
-          }
-          Frame(&app);
-          glfwSwapBuffers(window);
-        }
+        RunInteractive(&app);
       }
     }
   }

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "ringlet/hair_bsdf.h"
+#include "ringlet/render.h"
 
 namespace ringlet::studio {
 namespace {
@@ -193,6 +194,45 @@ Eigen::Vector3f MelaninColour(double eumelanin, double pheomelanin) {
   Eigen::Vector3f c;
   for (int k = 0; k < 3; ++k) c[k] = static_cast<float>(std::exp(-3.0 * sigma[k]));
   return c.cwiseMax(0.01f);
+}
+
+Eigen::Vector3f PathTracedHairColour(const RenderSettings& settings, double eccentricity) {
+  // The swatch: 6 layers of 40 horizontal fibres (along x) of 80 um, 0.1 mm apart (opaque),
+  // 4 cm long, behind the plane y = 0; the camera looks at it from the front (+y, the face's
+  // side) from 10 cm, so that the default key light (above, in front) falls across the fibres.
+  HairCurves swatch;
+  const int columns = 40, layers = 6;
+  for (int l = 0; l < layers; ++l) {
+    for (int c = 0; c < columns; ++c) {
+      const float z = (c - 0.5f * columns + 0.5f * (l % 2)) * 1e-4f, y = -l * 1e-4f;
+      swatch.point_counts.push_back(4);
+      for (int k = 0; k < 4; ++k) {
+        swatch.points.emplace_back(-0.02f + k * 0.04f / 3.0f, y, z);
+        swatch.widths.push_back(8e-5f);
+      }
+    }
+  }
+  RenderSettings s = settings;
+  s.options.width = s.options.height = 12;
+  s.options.samples_per_pixel = 8;
+  s.options.denoise = false;
+  s.camera.kind = CameraSettings::Kind::kExplicit;
+  s.camera.position = Vec3(0.0, 0.1, 0.0);
+  s.camera.look_at = Vec3::Zero();
+  s.camera.up = Vec3::UnitZ();
+  s.camera.vertical_fov = 2.0 * std::atan(0.0015 / 0.1);  // 3 mm of the swatch's middle
+  RenderScene scene;
+  Image image;
+  RenderStats stats;
+  std::string error;
+  if (!MakeRenderScene(s, &swatch, nullptr, eccentricity, 1, &scene, &error) ||
+      !Render(scene, s.options, &image, &stats, &error) || image.pixels.empty()) {
+    return MelaninColour(settings.eumelanin, settings.pheomelanin);
+  }
+  Eigen::Vector3f mean = Eigen::Vector3f::Zero();
+  for (const Eigen::Vector3f& p : image.pixels) mean += p;
+  mean *= static_cast<float>(settings.exposure) / static_cast<float>(image.pixels.size());
+  return mean.cwiseMax(0.0f).cwiseMin(1.0f);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ringlet/body.h"
+#include "ringlet/render_json.h"
 #include "session.h"
 
 namespace ringlet::studio {
@@ -43,6 +44,13 @@ struct HairLook {
 /// The base colour of hair with these melanins: exp(-3 sigma_a) of Chiang's absorption
 /// (AbsorptionFromMelanin; two passes through the fibre, the TT/TRT path), a simple mapping.
 Eigen::Vector3f MelaninColour(double eumelanin, double pheomelanin);
+
+/// The colour the path tracer gives hair of these render settings (melanins, fibre optics, key
+/// light, environment, exposure) and eccentricity: the mean linear radiance of a small render
+/// (12 x 12 pixels, 8 samples, not denoised; 0.1-0.2 s on 2 shared cores) of an opaque swatch
+/// of parallel fibres seen from the front, times the exposure. Falls back to MelaninColour when
+/// the render fails.
+Eigen::Vector3f PathTracedHairColour(const RenderSettings& settings, double eccentricity);
 
 class Viewer {
  public:

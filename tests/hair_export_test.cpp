@@ -918,5 +918,43 @@ TEST(StrandExport, WritesTheFormatOfTheExtensionAndNeverReplacesSilently) {
   EXPECT_EQ(dir.Count(), 3u);
 }
 
+// ExportHairstyleStrands: every front end's strand file of a hairstyle carries the colour of its
+// melanins (issue 26: the studio's Export had none, `ringlet style`'s had it).
+TEST(StrandExport, HairstyleStrandsCarryTheMelaninColour) {
+  const HairCurves curves = MakeCurves({2, 6, 3}, false, 7);
+  RenderSettings render;
+  render.eumelanin = 0.8;
+  render.pheomelanin = 1.5;
+  // The display colour by its formula: exp(-3 sigma_a), sigma_a = eumelanin (0.419, 0.697,
+  // 1.37) + pheomelanin (0.187, 0.4, 1.05) (Chiang et al. 2016, section 4.2; hair_bsdf.h).
+  const double eu = 0.8, pheo = 1.5;
+  const Vec3f colour(static_cast<float>(std::exp(-3.0 * (eu * 0.419 + pheo * 0.187))),
+                     static_cast<float>(std::exp(-3.0 * (eu * 0.697 + pheo * 0.4))),
+                     static_cast<float>(std::exp(-3.0 * (eu * 1.37 + pheo * 1.05))));
+  HairCurves coloured = curves;
+  coloured.colors.assign(curves.point_counts.size(), colour);
+  TempDir dir;
+  std::string error, file;
+  for (const StrandFormat format : {StrandFormat::kHair, StrandFormat::kUsda, StrandFormat::kObj}) {
+    const std::string name = std::string("s.") + StrandFormatExtension(format);
+    std::string expected, plain, again;
+    ASSERT_TRUE(EncodeStrands(coloured, format, HairFileOptions{}, &expected, &error)) << error;
+    ASSERT_TRUE(EncodeStrands(curves, format, HairFileOptions{}, &plain, &error)) << error;
+    EXPECT_NE(plain, expected) << name << ": the colour is written";
+    ASSERT_TRUE(ExportHairstyleStrands(dir.File(name), curves, render, HairFileOptions{}, false,
+                                       &error))
+        << error;
+    ASSERT_TRUE(ReadFile(dir.File(name), &file, &error)) << error;
+    EXPECT_EQ(file, expected) << name;
+    // Strands already coloured (the CLI's) are encoded as they are: the same bytes.
+    HairCurves precoloured = curves;
+    SetMelaninColours(render, &precoloured);
+    ASSERT_TRUE(EncodeHairstyleStrands(precoloured, render, format, HairFileOptions{}, &again,
+                                       &error))
+        << error;
+    EXPECT_EQ(again, expected) << name;
+  }
+}
+
 }  // namespace
 }  // namespace ringlet

@@ -6,6 +6,7 @@
 
 #include "ringlet/hair_curves.h"
 #include "ringlet/hair_file.h"
+#include "ringlet/render_json.h"
 
 namespace ringlet {
 
@@ -34,5 +35,21 @@ bool EncodeStrands(const HairCurves& strands, StrandFormat format,
 /// encoding fails. Errors are one line starting with the path.
 bool ExportStrands(const std::string& path, const HairCurves& strands,
                    const HairFileOptions& hair_options, bool overwrite, std::string* error);
+
+/// A hairstyle's strand file as every front end writes it (`ringlet groom`, `ringlet style` and
+/// the studio's Export: one code path, identical bytes): the strands, each given the display
+/// colour of the melanins of the hairstyle's "render" settings (SetMelaninColours: the .hair
+/// colour array, USD primvars:displayColor, OBJ vertex colours), encoded by EncodeStrands.
+/// Strands already coloured so are encoded as they are, others are copied and coloured.
+bool EncodeHairstyleStrands(const HairCurves& strands, const RenderSettings& render,
+                            StrandFormat format, const HairFileOptions& hair_options,
+                            std::string* bytes, std::string* error);
+
+/// ExportStrands of a hairstyle's strands: EncodeHairstyleStrands in the format of the path's
+/// extension, written atomically (an existing file only when overwrite). Errors are one line
+/// starting with the path.
+bool ExportHairstyleStrands(const std::string& path, const HairCurves& strands,
+                            const RenderSettings& render, const HairFileOptions& hair_options,
+                            bool overwrite, std::string* error);
 
 }  // namespace ringlet

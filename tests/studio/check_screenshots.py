@@ -13,7 +13,7 @@ import zlib
 
 import numpy as np
 
-PANEL = 360  # the panel's width (pixels)
+PANEL = 400  # the panel's width (pixels, studio/main.cpp kPanelWidth)
 
 
 def read_png(path):
@@ -79,9 +79,11 @@ def read_ppm(path):
 
 
 def hair_mask(image):
-    """Brown-orange fibres: red dominant, blue well below red (the skin is paler, b/r ~ 0.8)."""
+    """Blonde fibres (small.json's melanins, drawn in the path tracer's colour of that hair):
+    green close to red (g/r > 0.81; the skin has g/r ~ 0.77), blue below red (the background
+    is bluish)."""
     r, g, b = image[:, :, 0], image[:, :, 1], image[:, :, 2]
-    mask = (r > 30) & (b < 0.62 * r) & (g < 0.85 * r)
+    mask = (r > 40) & (g > 0.81 * r) & (g <= r) & (b < 0.85 * r)
     mask[:, :PANEL] = False
     return mask
 

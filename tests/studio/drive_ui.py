@@ -1,0 +1,367 @@
+"""Drives ringlet-studio through the X server's input (xdotool: XTEST mouse and key events), the
+way a user does, and checks what the document, the view and the files became (issue 26).
+
+Run under xvfb-run by tests/studio_input_test.sh. The studio runs with --report FILE (the
+widgets' rectangles, the camera and the document after each frame: read only, never written by
+the test) and --min-frame-seconds (slow frames: a click, a key tap or a whole drag then falls
+inside one frame, as on a slow machine). Every value is set by mouse or keyboard events.
+
+usage: drive_ui.py STUDIO RINGLET HAIRSTYLE WORKDIR SECTION
+SECTION: sliders (defects 1 and 6), keys (3, 4, 6, 7) or export (2).
+"""
+import json
+import os
+import subprocess
+import sys
+import time
+
+STUDIO, RINGLET, HAIRSTYLE, WORK, SECTION = sys.argv[1:6]
+REPORT = os.path.join(WORK, "report.json")
+FRAME = 0.1           # --min-frame-seconds: slow frames
+PANEL = 400           # studio/main.cpp kPanelWidth (px)
+FIELD = 180           # studio/main.cpp kFieldWidth: the width of a slider's frame (px)
+failures = []
+
+
+T0 = time.time()
+
+
+def check(condition, what):
+    print(f"{time.time() - T0:5.1f} s " + ("ok    " if condition else "FAIL  ") + what, flush=True)
+    if not condition:
+        failures.append(what)
+
+
+def xdo(*args):
+    subprocess.run(["xdotool", *[str(a) for a in args]], check=True)
+
+
+def report():
+    while True:
+        try:
+            with open(REPORT) as f:
+                return json.load(f)
+        except (FileNotFoundError, json.JSONDecodeError):
+            time.sleep(0.02)
+
+
+def quiet(timeout=30.0):
+    """Waits until the studio draws no more frames (it redraws only when something changed):
+    every event sent so far has been handled. Returns the report."""
+    end = time.time() + timeout
+    last, since = report()["frame"], time.time()
+    while time.time() < end:
+        time.sleep(0.05)
+        frame = report()["frame"]
+        if frame != last:
+            last, since = frame, time.time()
+        elif time.time() - since > 3 * FRAME + 0.3:
+            return report()
+    check(False, "the studio never stops drawing")
+    raise SystemExit(finish())
+
+
+def wait(condition, what, timeout=30.0):
+    """Waits until condition(report) holds and the studio is quiet."""
+    end = time.time() + timeout
+    while time.time() < end:
+        if condition(report()):
+            print(f"{time.time() - T0:5.1f} s       ({what})", flush=True)
+            return quiet()
+        time.sleep(0.05)
+    r = report()
+    check(False, f"timed out waiting for {what} (message: {r['message']!r}, "
+                 f"history: {r['history'][-3:]})")
+    raise SystemExit(finish())
+
+
+def settle():
+    """Waits for the studio to be idle: no solve, the document's hair shown."""
+    return wait(lambda r: not r["busy"] and r["up_to_date"] and r["strands"] > 0, "the solve")
+
+
+def widget(name):
+    return report()["widgets"][name]
+
+
+def slider_x(rect, value, lo, hi):
+    """The cursor x that sets a float slider (ImGui 1.86 SliderBehavior: 2 px grab padding,
+    10 px grab) of [lo, hi] to value; its frame starts at the rectangle's left."""
+    t = (value - lo) / (hi - lo)
+    return rect[0] + 2 + 5 + t * (FIELD - 4 - 10)
+
+
+def centre_y(rect):
+    return (rect[1] + rect[3]) / 2
+
+
+def click(x, y, button=1):
+    if not 0 <= y < 800:
+        check(False, f"a click at y = {y:.0f}: outside the window")
+        raise SystemExit(finish())
+    xdo("mousemove", int(round(x)), int(round(y)))
+    time.sleep(2 * FRAME)  # the move is seen before the press (hover)
+    xdo("click", button)
+
+
+def field(r, name):
+    """A field of the document by its dotted name (None when absent)."""
+    value = r["document"]
+    for key in name.split("."):
+        if not isinstance(value, dict) or key not in value:
+            return None
+        value = value[key]
+    return value
+
+
+def centre(name):
+    rect = widget(name)
+    return (rect[0] + rect[2]) / 2, (rect[1] + rect[3]) / 2
+
+
+def drag_slider(name, start_x, end_x):
+    """Presses on a slider at start_x, drags it to end_x in two moves a frame apart, releases."""
+    y = int(centre_y(widget(name)))
+    xdo("mousemove", int(round(start_x)), y)
+    time.sleep(2 * FRAME)
+    xdo("mousedown", 1)
+    time.sleep(FRAME)
+    xdo("mousemove", int(round((start_x + end_x) / 2)), y)
+    time.sleep(FRAME)
+    xdo("mousemove", int(round(end_x)), y)
+    time.sleep(2 * FRAME)
+    xdo("mouseup", 1)
+
+
+def type_into(name, text):
+    """Clicks a text field, replaces its text and presses Enter."""
+    rect = widget(name)
+    click(rect[0] + 20, centre_y(rect))
+    time.sleep(2 * FRAME)
+    xdo("key", "ctrl+a")
+    xdo("type", text)
+    xdo("key", "Return")
+    quiet()
+
+
+def outside_panel():
+    """Controls (labels included) reaching under the panel's scrollbar (14 px) and padding (8 px),
+    or beyond it; the collapsing headers span the whole width by design."""
+    return [n for n, w in report()["widgets"].items()
+            if not n.startswith("header.") and (w[2] > PANEL - 16 or w[0] < 0)]
+
+
+def finish():
+    if studio.poll() is None:
+        studio.terminate()
+        try:
+            studio.wait(10)
+        except subprocess.TimeoutExpired:
+            studio.kill()
+    if failures:
+        print(f"{len(failures)} failures:\n  " + "\n  ".join(failures))
+        return 1
+    print("studio input test: ok")
+    return 0
+
+
+
+def sliders():
+    # Defect 1: a dragged document slider applies the value where it is released.
+    before = field(report(), "hair.length.front")
+    rect = widget("hair.length.front")
+    drag_slider("hair.length.front", slider_x(rect, 0.20, 0.05, 0.8),
+                slider_x(rect, 0.238, 0.05, 0.8))
+    r = wait(lambda r: field(r, "hair.length.front") != before, "the dragged length")
+    value = field(r, "hair.length.front")
+    # One pixel of the slider is 0.75 / 166 = 0.0045 m.
+    check(abs(value - 0.238) <= 0.005,
+          f"length, front dragged from {before} to 0.238: {value}")
+    check(abs(value * 1000 - round(value * 1000)) < 1e-9,
+          f"the dragged value is stored with the slider's 3 decimals: {value!r}")
+    check(r["history"][-1] == f"set hair.length.front = {json.dumps(value)}",
+          f"History records the dragged value: {r['history'][-1]!r}")
+    settle()
+    # Typed: Ctrl+click turns the slider into a text field; "0.2" Enter stores 0.2 as typed.
+    xdo("mousemove", int(rect[0] + 60), int(centre_y(rect)))
+    time.sleep(2 * FRAME)
+    xdo("keydown", "ctrl")
+    xdo("click", 1)
+    xdo("keyup", "ctrl")
+    time.sleep(3 * FRAME)
+    xdo("key", "ctrl+a")
+    xdo("type", "0.2")
+    xdo("key", "Return")
+    r = wait(lambda r: field(r, "hair.length.front") == 0.2, "the typed length", timeout=15)
+    check('"front": 0.2,' in json.dumps(r["document"]), "typed 0.2 is stored as 0.2")
+    settle()
+    # Save (the button, to the default name in the work directory) writes what was set; its
+    # message line does not move the controls below.
+    y_length = widget("hair.length.front")[1]
+    click(*centre("Save"))
+    r = wait(lambda r: not r["modified"], "the save")
+    text = open(os.path.join(WORK, "styled.json")).read()
+    check(json.loads(text)["hair"]["length"]["front"] == 0.2 and '"front": 0.2,' in text,
+          "Save writes the typed value 0.2")
+    check(r["message"].startswith("saved") and widget("hair.length.front")[1] == y_length,
+          f"a message does not move the panel: y {widget('hair.length.front')[1]} vs {y_length}")
+    # An integer slider (hair seed), and sliders under the collapsed headers (wisps, comb).
+    rect = widget("hair.seed")
+    before = field(report(), "hair.seed")
+    drag_slider("hair.seed", rect[0] + 10, rect[0] + FIELD - 10)
+    r = wait(lambda r: field(r, "hair.seed") != before, "the dragged hair seed")
+    check(field(r, "hair.seed") >= 90, f"hair seed dragged to the right end: {field(r, 'hair.seed')}")
+    settle()
+    for header, name, lo, hi, target in (("header.masters", "wisps.tip_scale", 0.0, 2.0, 1.5),
+                                         ("header.comb", "comb.tilt", 0.0, 1.5707, 0.6)):
+        click(widget(header)[0] + 40, centre_y(widget(header)))
+        wait(lambda r: name in r["widgets"], f"the {name} slider")
+        before = field(report(), name)
+        rect = widget(name)
+        drag_slider(name, slider_x(rect, (lo + hi) / 2, lo, hi), slider_x(rect, target, lo, hi))
+        r = wait(lambda r: field(r, name) != before, f"the dragged {name}")
+        step = (hi - lo) / (FIELD - 14)
+        check(abs(field(r, name) - target) <= 1.5 * step,
+              f"{name} dragged from {before} to {target}: {field(r, name)}")
+        settle()
+        # Defect 6: every control inside the panel, the wisp radius' auto button too.
+        outside = outside_panel()
+        check(not outside and (header != "header.masters" or "wisps.radius.auto" in
+                               report()["widgets"]), f"controls outside the panel: {outside}")
+        click(widget(header)[0] + 40, centre_y(widget(header)))  # closed again
+        wait(lambda r: name not in r["widgets"], f"{header} closed")
+
+
+def keys():
+    # Three edits to undo (hair seed dragged three times): a repeated undo would show.
+    for end in (FIELD - 10, 60, 120):
+        rect = widget("hair.seed")
+        before = field(report(), "hair.seed")
+        drag_slider("hair.seed", rect[0] + 30, rect[0] + end)
+        wait(lambda r: field(r, "hair.seed") != before, "the dragged hair seed")
+        settle()
+    # Defect 4: taps shorter than a frame act once; holds do not repeat.
+    cursor = report()["history_cursor"]
+    xdo("mousemove", 900, 400)
+    time.sleep(2 * FRAME)
+    xdo("key", "ctrl+z")  # press and release within ~12 ms; a frame lasts >= 100 ms
+    r = wait(lambda r: r["history_cursor"] != cursor, "Ctrl+Z", timeout=10)
+    check(r["history_cursor"] == cursor - 1,
+          f"a Ctrl+Z tap undoes one edit: {cursor} -> {r['history_cursor']}")
+    settle()
+    xdo("keydown", "ctrl+z")  # held for 1.2 s (key repeat after ~0.3 s)
+    time.sleep(1.2)
+    xdo("keyup", "ctrl+z")
+    r = settle()
+    check(r["history_cursor"] == cursor - 2, f"a held Ctrl+Z undoes one edit: {r['history_cursor']}")
+    xdo("key", "ctrl+y")
+    r = wait(lambda r: r["history_cursor"] != cursor - 2, "Ctrl+Y", timeout=10)
+    check(r["history_cursor"] == cursor - 1, "a Ctrl+Y tap redoes one edit")
+    settle()
+    masters_only = report()["masters_only"]
+    xdo("key", "m")
+    wait(lambda r: r["masters_only"] != masters_only, "M", timeout=10)
+    xdo("keydown", "m")
+    time.sleep(0.3)
+    samples = []
+    for _ in range(10):  # 0.3 s to 1.3 s into the hold: key repeat would toggle it again
+        time.sleep(0.1)
+        samples.append(report()["masters_only"])
+    xdo("keyup", "m")
+    check(quiet()["masters_only"] == masters_only and samples == [masters_only] * 10,
+          f"M tapped, then held: toggled once each (during the hold: {samples})")
+
+    # Defect 3: drags measured from the press. The cursor comes from far away, presses and
+    # moves 50 px inside one frame; frames later it moves 50 px more and releases.
+    xdo("key", "f")  # frame all: the camera looks at the hair's centre
+    c0 = quiet()["centre_on_screen"]
+    xdo("mousemove", 700, 250)
+    time.sleep(2 * FRAME)
+    xdo("mousemove", 900, 500, "mousedown", 3, "mousemove", 950, 500)
+    time.sleep(3 * FRAME)
+    xdo("mousemove", 1000, 500, "mouseup", 3)
+    r = quiet()
+    c1 = r["centre_on_screen"]
+    shift = (c1[0] - c0[0], c1[1] - c0[1])
+    check(abs(shift[0] - 100) <= 2 and abs(shift[1]) <= 2,
+          f"a 100 px pan moves the head 100 px: ({shift[0]:.1f}, {shift[1]:.1f}) px")
+    pitch, yaw = r["camera"]["pitch"], r["camera"]["yaw"]
+    xdo("mousemove", 800, 300)
+    time.sleep(2 * FRAME)
+    xdo("mousemove", 900, 450, "mousedown", 1, "mousemove", 960, 450)
+    time.sleep(3 * FRAME)
+    xdo("mousemove", 1000, 450, "mouseup", 1)
+    r = quiet()
+    check(r["camera"]["pitch"] == pitch,
+          f"a horizontal orbit keeps the pitch: {pitch} -> {r['camera']['pitch']}")
+    check(abs((r["camera"]["yaw"] - yaw) - (-100 * 0.008)) < 1e-4,
+          f"a 100 px orbit turns by 0.8 rad: {r['camera']['yaw'] - yaw:.4f}")
+
+    # Defect 6: the cut tool's rows do not move the controls below them.
+    y_cut, y_grow = widget("Cut below")[1], widget("Grow")[1]
+    for tool in ("cut_tool.plane", "cut_tool.sphere", "cut_tool.plane"):
+        click(*centre(tool))
+        r = quiet()
+        check(widget("Cut below")[1] == y_cut and widget("Grow")[1] == y_grow,
+              f"with {tool}, the controls below stay: y {widget('Cut below')[1]} vs {y_cut}")
+    # Defect 4: an Enter tap applies the cut tool's cut once; Ctrl+Z undoes it.
+    xdo("mousemove", 900, 400)
+    time.sleep(2 * FRAME)
+    operations = report()["operations"]
+    xdo("key", "Return")
+    r = wait(lambda r: r["operations"] != operations, "Enter", timeout=10)
+    check(r["operations"] == operations + 1, "an Enter tap applies one cut")
+    xdo("key", "ctrl+z")
+    r = wait(lambda r: r["operations"] == operations, "Ctrl+Z of the cut", timeout=10)
+    click(*centre("cut_tool.off"))
+    settle()
+
+    # Defect 7: idle, no frame is drawn and no CPU is used.
+    xdo("mousemove", 1270, 790)
+    frame = quiet()["frame"]
+    with open(f"/proc/{studio.pid}/stat") as f:
+        ticks0 = sum(int(v) for v in f.read().rsplit(")", 1)[1].split()[11:13])
+    time.sleep(2.0)
+    with open(f"/proc/{studio.pid}/stat") as f:
+        ticks1 = sum(int(v) for v in f.read().rsplit(")", 1)[1].split()[11:13])
+    cpu = (ticks1 - ticks0) / os.sysconf("SC_CLK_TCK") / 2.0
+    frames = report()["frame"] - frame
+    check(frames == 0 and cpu < 0.03, f"idle: {frames} frames and {cpu * 100:.1f} % CPU in 2 s")
+
+
+def export():
+    # Defect 2: Export writes the bytes `ringlet style` writes for the saved document.
+    history = len(report()["history"])
+    click(*centre("Wet"))
+    wait(lambda r: len(r["history"]) > history, "Wet")
+    settle()
+    for ext in ("hair", "usda", "obj"):
+        path = os.path.join(WORK, f"export.{ext}")
+        type_into("export_path", f"export.{ext}")  # the studio runs in WORK
+        check(report()["export_path"] == f"export.{ext}",
+              f"export file name typed: {report()['export_path']!r}")
+        click(*centre("Export"))
+        wait(lambda r: os.path.exists(path), f"export.{ext}")
+    saved = os.path.join(WORK, "session.json")
+    type_into("save_path", "session.json")
+    check(report()["save_path"] == "session.json", f"save name typed: {report()['save_path']!r}")
+    click(*centre("Save"))
+    wait(lambda r: os.path.exists(saved) and not r["modified"], "the save")
+    out = os.path.join(WORK, "styled")
+    subprocess.run([RINGLET, "style", saved, "-o", out, "--formats", "hair,usda,obj", "-q"],
+                   check=True)
+    for ext in ("hair", "usda", "obj"):
+        same = subprocess.run(["cmp", os.path.join(WORK, f"export.{ext}"),
+                               os.path.join(out, f"strands.{ext}")]).returncode == 0
+        check(same, f"Export .{ext} is `ringlet style`'s strands.{ext} byte for byte (cmp)")
+
+
+os.chdir(WORK)
+studio = subprocess.Popen([STUDIO, HAIRSTYLE, "--report", REPORT, "--size", "1280x800",
+                           "--min-frame-seconds", str(FRAME)])
+r = settle()
+print(f"opened and solved in {time.time() - T0:.1f} s: {r['strands']} strands")
+xdo("mousemove", 900, 400)  # the pointer over the window: it has the keyboard focus
+time.sleep(2 * FRAME)
+{"sliders": sliders, "keys": keys, "export": export}[SECTION]()
+sys.exit(finish())
