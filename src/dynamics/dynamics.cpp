@@ -1,0 +1,422 @@
+// Strand dynamics: mass matrix, backward Euler as an incremental potential, modal analysis
+// (dynamics.h; docs/dynamics.md).
+#include "ringlet/dynamics.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "dynamics/kinematics.h"
+#include "ringlet/strand_hessian.h"
+
+namespace ringlet {
+
+using dynamics::ComputeKinematics;
+using dynamics::GaussLegendre01;
+using dynamics::GaussRule;
+using dynamics::Kinematics;
+
+bool DynamicsOptions::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& message) {
+    if (why) *why = message;
+    return false;
+  };
+  if (!(std::isfinite(time_step) && time_step > 0.0)) {
+    return fail("dynamics time_step must be a finite number > 0 (s)");
+  }
+  if (!(std::isfinite(internal_friction) && internal_friction >= 0.0)) {
+    return fail("dynamics internal_friction must be a finite number >= 0 (N m^2 s)");
+  }
+  if (!(std::isfinite(air_drag) && air_drag >= 0.0)) {
+    return fail("dynamics air_drag must be a finite number >= 0 (N s/m^2)");
+  }
+  if (mass_points < 1 || mass_points > 8) return fail("dynamics mass_points must be in 1..8");
+  if (max_newton_iterations < 1) return fail("dynamics max_newton_iterations must be >= 1");
+  if (!(std::isfinite(tolerance) && tolerance > 0.0)) {
+    return fail("dynamics tolerance must be a finite number > 0 (rad)");
+  }
+  if (max_halvings < 0 || max_halvings > 30) return fail("dynamics max_halvings must be in 0..30");
+  return true;
+}
+
+namespace {
+
+void CheckInputs(const StrandModel& model, const DynamicsOptions& options, const VecX& curvatures,
+                 const VecX* rates) {
+  std::string why;
+  if (!IsValid(model, &why)) throw std::invalid_argument(why);
+  if (!options.IsValid(&why)) throw std::invalid_argument(why);
+  const Eigen::Index size = 3 * model.NumSegments();
+  if (curvatures.size() != size || !curvatures.allFinite()) {
+    throw std::invalid_argument("curvatures must be " + std::to_string(size) +
+                                " finite numbers (3 per segment)");
+  }
+  if (rates && (rates->size() != size || !rates->allFinite())) {
+    throw std::invalid_argument("rates must be " + std::to_string(size) +
+                                " finite numbers (3 per segment)");
+  }
+}
+
+// Sum of two block-semiseparable matrices: `metric` (full twists) plus the Hessian of E (whose
+// loads have zero bottom rows when its twists do, strand_hessian.h) plus diag(extra_i I).
+void AddHessian(const StrandHessian& hessian, const std::vector<double>& extra,
+                StrandHessian* metric) {
+  for (size_t i = 0; i < metric->diagonal.size(); ++i) {
+    metric->diagonal[i] += hessian.diagonal[i];
+    metric->diagonal[i].diagonal().array() += extra[i];
+    metric->load[i] += hessian.load[i];
+  }
+}
+
+}  // namespace
+
+StrandHessian ComputeMassMatrix(const StrandModel& model, const VecX& curvatures,
+                                const DynamicsOptions& options) {
+  CheckInputs(model, options, curvatures, nullptr);
+  Kinematics kin;
+  ComputeKinematics(model, curvatures, GaussLegendre01(options.mass_points), &kin);
+  StrandHessian mass;
+  dynamics::AssembleMetric(model, options, kin, 1.0, 0.0, &mass);
+  return mass;
+}
+
+double KineticEnergy(const StrandModel& model, const StrandState& state,
+                     const DynamicsOptions& options) {
+  CheckInputs(model, options, state.curvatures, &state.rates);
+  Kinematics kin;
+  ComputeKinematics(model, state.curvatures, GaussLegendre01(options.mass_points), &kin);
+  std::vector<Vec3> angular, linear;
+  dynamics::SampleVelocities(kin, state.rates, &angular, &linear);
+  const double line_density = model.material.density * model.section.Area();
+  double kinetic = 0.0;
+  for (size_t k = 0; k < kin.samples.size(); ++k) {
+    const dynamics::Sample& s = kin.samples[k];
+    const Mat3 theta = dynamics::SectionInertia(model, s, options.rotational_inertia);
+    kinetic += 0.5 * (line_density * s.weight * linear[k].squaredNorm() +
+                      angular[k].dot(theta * angular[k]));
+  }
+  return kinetic;
+}
+
+Modes ComputeModes(const StrandModel& model, const VecX& curvatures, int count,
+                   const DynamicsOptions& options) {
+  CheckInputs(model, options, curvatures, nullptr);
+  const int n = model.NumSegments();
+  if (n > kMaxModalSegments) {
+    throw std::invalid_argument("modal analysis is dense: at most " +
+                                std::to_string(kMaxModalSegments) + " segments, not " +
+                                std::to_string(n));
+  }
+  StrandHessian hessian;
+  ComputeStrandHessian(model, curvatures, &hessian);
+  MatX h = hessian.Dense();
+  h = (0.5 * (h + h.transpose())).eval();
+  MatX m = ComputeMassMatrix(model, curvatures, options).Dense();
+  m = (0.5 * (m + m.transpose())).eval();
+  // Solved as M v = mu (H + sigma M) v, mu = 1 / (omega^2 + sigma): the wanted low modes are
+  // then the largest mu, accurate relative to themselves. Directly (H v = omega^2 M v) their
+  // rounding would be relative to the largest omega^2, the twist waves of the section (omega^2 ~
+  // (n pi / L)^2 mu / rho ~ 1e12 / s^2 at 40 segments of 10 cm), 1e-4 / s^2 and more. sigma = 0
+  // when H is positive definite; otherwise twice the most negative omega^2 of the direct
+  // problem plus 1e-6 of its largest, which makes H + sigma M positive definite.
+  double sigma = 0.0;
+  if (Eigen::LLT<MatX>(h).info() != Eigen::Success) {
+    Eigen::GeneralizedSelfAdjointEigenSolver<MatX> direct(h, m, Eigen::EigenvaluesOnly);
+    if (direct.info() != Eigen::Success) {
+      throw std::runtime_error("modal analysis: the generalized eigensolver failed");
+    }
+    const VecX& values = direct.eigenvalues();
+    sigma = 2.0 * std::max(0.0, -values(0)) + 1e-6 * std::abs(values(values.size() - 1));
+  }
+  const MatX shifted = h + sigma * m;
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatX> solver(m, shifted);
+  if (solver.info() != Eigen::Success) {
+    throw std::runtime_error("modal analysis: the generalized eigensolver failed");
+  }
+  const int size = 3 * n;
+  const int k = count <= 0 ? size : std::min(count, size);
+  Modes modes;
+  modes.omega_squared.resize(k);
+  modes.shapes.resize(size, k);
+  for (int j = 0; j < k; ++j) {
+    // Largest mu first; v^T (H + sigma M) v = 1 gives v^T M v = mu.
+    const int index = size - 1 - j;
+    const double mu = solver.eigenvalues()(index);
+    modes.omega_squared(j) = 1.0 / mu - sigma;
+    modes.shapes.col(j) = solver.eigenvectors().col(index) / std::sqrt(mu);
+  }
+  return modes;
+}
+
+// The incremental potential of one backward-Euler step (dynamics.h, docs/dynamics.md "Time
+// step"): its value, gradient and Newton matrix at a configuration.
+class IncrementalPotential {
+ public:
+  IncrementalPotential(const StrandModel& model, const DynamicsOptions& options,
+                       const GaussRule& rule, const StrandState& start, double h)
+      : model_(model), options_(options), rule_(rule), start_(start), h_(h), energy_(model) {
+    Kinematics kin;
+    ComputeKinematics(model, start.curvatures, rule, &kin);
+    std::vector<Vec3> angular, linear;
+    dynamics::SampleVelocities(kin, start.rates, &angular, &linear);
+    const size_t count = kin.samples.size();
+    start_positions_.resize(count);
+    predicted_positions_.resize(count);
+    predicted_directors_.resize(count);
+    for (size_t k = 0; k < count; ++k) {
+      const dynamics::Sample& s = kin.samples[k];
+      start_positions_[k] = s.y;
+      predicted_positions_[k] = s.y + h * linear[k];
+      // n1, n2 moved by the frame's angular velocity (the section's rotational inertia).
+      for (int d = 0; d < 2; ++d) {
+        const Vec3 director = s.frame.col(d);
+        predicted_directors_[k].col(d) = director + h * angular[k].cross(director);
+      }
+      predicted_directors_[k].col(2).setZero();
+    }
+    extra_.resize(static_cast<size_t>(model.NumSegments()));
+    for (int i = 0; i < model.NumSegments(); ++i) {
+      extra_[static_cast<size_t>(i)] =
+          options.internal_friction * model.segment_lengths[static_cast<size_t>(i)] / h;
+    }
+  }
+
+  // Phi(q) and, when gradient is not null, dPhi/dq; kinematics at q are kept for the Newton
+  // matrix.
+  double Evaluate(const VecX& q, VecX* gradient) {
+    ComputeKinematics(model_, q, rule_, &kin_);
+    const double line_density = model_.material.density * model_.section.Area();
+    const double inv_h2 = 1.0 / (h_ * h_);
+    const size_t count = kin_.samples.size();
+    forces_.resize(count);
+    adjoints_.resize(count);
+    double inertia = 0.0;
+    const double i1 = model_.section.I1(), i2 = model_.section.I2();
+    for (size_t k = 0; k < count; ++k) {
+      const dynamics::Sample& s = kin_.samples[k];
+      const double mass = line_density * s.weight;
+      const Vec3 miss = s.y - predicted_positions_[k];
+      const Vec3 moved = s.y - start_positions_[k];
+      const double drag = options_.air_drag * s.weight;
+      inertia += 0.5 * mass * inv_h2 * miss.squaredNorm() + 0.5 * drag / h_ * moved.squaredNorm();
+      forces_[k] = (mass * inv_h2) * miss + (drag / h_) * moved;
+      adjoints_[k].setZero();
+      if (options_.rotational_inertia) {
+        // 1/2 rho w (I2 |n1 - n1~|^2 + I1 |n2 - n2~|^2) / h^2: the kinetic energy
+        // 1/2 rho (I2 |dn1/dt|^2 + I1 |dn2/dt|^2) of the section (docs/dynamics.md).
+        const double c[2] = {model_.material.density * s.weight * i2 * inv_h2,
+                             model_.material.density * s.weight * i1 * inv_h2};
+        for (int d = 0; d < 2; ++d) {
+          const Vec3 miss_d = s.frame.col(d) - predicted_directors_[k].col(d);
+          inertia += 0.5 * c[d] * miss_d.squaredNorm();
+          adjoints_[k].col(d) = c[d] * miss_d;
+        }
+      }
+    }
+    double dissipation = 0.0;
+    for (int i = 0; i < model_.NumSegments(); ++i) {
+      const Vec3 change = q.segment<3>(3 * i) - start_.curvatures.segment<3>(3 * i);
+      dissipation += 0.5 * extra_[static_cast<size_t>(i)] * change.squaredNorm();
+    }
+    const double potential = energy_.Evaluate(q, gradient ? &energy_gradient_ : nullptr);
+    if (gradient) {
+      dynamics::ApplyJacobianTranspose(model_, q, kin_, forces_, adjoints_, gradient);
+      *gradient += energy_gradient_;
+      for (int i = 0; i < model_.NumSegments(); ++i) {
+        gradient->segment<3>(3 * i) +=
+            extra_[static_cast<size_t>(i)] *
+            (q.segment<3>(3 * i) - start_.curvatures.segment<3>(3 * i));
+      }
+    }
+    return inertia + dissipation + potential;
+  }
+
+  // The Newton matrix at the q of the last Evaluate: M/h^2 + nu-drag/h (Gauss-Newton) + the
+  // exact Hessian of E + gamma l_i / h.
+  void NewtonMatrix(const VecX& q, StrandHessian* matrix) {
+    dynamics::AssembleMetric(model_, options_, kin_, 1.0 / (h_ * h_), 1.0 / h_, matrix);
+    ComputeStrandHessian(model_, q, &hessian_);
+    AddHessian(hessian_, extra_, matrix);
+  }
+
+ private:
+  const StrandModel& model_;
+  const DynamicsOptions& options_;
+  const GaussRule& rule_;
+  const StrandState& start_;
+  double h_;
+  StrandEnergy energy_;
+  std::vector<Vec3> start_positions_, predicted_positions_;
+  std::vector<Mat3> predicted_directors_;
+  std::vector<double> extra_;
+  Kinematics kin_;
+  std::vector<Vec3> forces_;
+  std::vector<Mat3> adjoints_;
+  VecX energy_gradient_;
+  StrandHessian hessian_;
+};
+
+StrandDynamics::StrandDynamics(const StrandModel& model, const DynamicsOptions& options,
+                               const StrandState& initial)
+    : model_(model), options_(options), state_(initial) {
+  CheckInputs(model_, options_, state_.curvatures, &state_.rates);
+  if (!std::isfinite(state_.time)) throw std::invalid_argument("state time must be finite (s)");
+}
+
+double StrandDynamics::Kinetic() const { return KineticEnergy(model_, state_, options_); }
+
+EnergyTerms StrandDynamics::Potential() const {
+  StrandEnergy energy(model_);
+  EnergyTerms terms;
+  energy.Evaluate(state_.curvatures, nullptr, &terms);
+  return terms;
+}
+
+bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
+  const GaussRule rule = GaussLegendre01(options_.mass_points);
+  IncrementalPotential phi(model_, options_, rule, state_, h);
+  const int n = model_.NumSegments();
+  VecX q = state_.curvatures + h * state_.rates;  // the explicit predictor
+  VecX gradient, step, trial;
+  StrandHessian matrix;
+  StrandHessianFactor factor;
+  double value = phi.Evaluate(q, &gradient);
+  if (!std::isfinite(value) || !gradient.allFinite()) {
+    // The predictor went somewhere unreasonable: start from where the step starts.
+    q = state_.curvatures;
+    value = phi.Evaluate(q, &gradient);
+  }
+  for (int iteration = 0; iteration < options_.max_newton_iterations; ++iteration) {
+    ++*iterations;
+    if (!std::isfinite(value) || !gradient.allFinite()) {
+      *why = "non-finite energy or gradient";
+      return false;
+    }
+    phi.NewtonMatrix(q, &matrix);
+    // Positive definite unless the potential's Hessian is too negative for the inertia: then a
+    // growing multiple of the identity (Levenberg) until the factorization succeeds.
+    double mean_diagonal = 0.0;
+    for (const Mat3& d : matrix.diagonal) mean_diagonal += d.trace();
+    mean_diagonal /= 3.0 * n;
+    double shift = 0.0;
+    bool factored = factor.Factor(matrix, 0.0);
+    for (int tries = 0; !factored && tries < 20; ++tries) {
+      shift = (shift == 0.0 ? 1e-8 : 10.0 * shift);
+      factored = factor.Factor(matrix, -shift * std::abs(mean_diagonal));
+    }
+    if (!factored) {
+      *why = "the Newton matrix could not be made positive definite";
+      return false;
+    }
+    factor.Solve(-gradient, &step);
+    double change = 0.0;
+    for (int i = 0; i < n; ++i) {
+      change += model_.segment_lengths[static_cast<size_t>(i)] * step.segment<3>(3 * i).norm();
+    }
+    const double slope = gradient.dot(step);  // < 0
+    if (change <= options_.tolerance) {
+      q += step;
+      state_.rates = (q - state_.curvatures) / h;
+      state_.curvatures = q;
+      state_.time += h;
+      return true;
+    }
+    // Backtracking line search on Phi (Armijo, c = 1e-4).
+    double alpha = 1.0;
+    bool accepted = false;
+    double trial_value = value;
+    VecX trial_gradient;
+    for (int k = 0; k < 40; ++k) {
+      trial = q + alpha * step;
+      trial_value = phi.Evaluate(trial, &trial_gradient);
+      if (std::isfinite(trial_value) && trial_gradient.allFinite() &&
+          trial_value <= value + 1e-4 * alpha * slope) {
+        accepted = true;
+        break;
+      }
+      // A decrease below the rounding of Phi: the full step is as good as converged.
+      if (std::isfinite(trial_value) && -slope <= 1e-14 * std::abs(value)) {
+        accepted = true;
+        break;
+      }
+      alpha *= 0.5;
+    }
+    if (!accepted) {
+      *why = "the line search found no decrease";
+      return false;
+    }
+    q = trial;
+    value = trial_value;
+    gradient = trial_gradient;
+    if (alpha * change <= options_.tolerance) {
+      state_.rates = (q - state_.curvatures) / h;
+      state_.curvatures = q;
+      state_.time += h;
+      return true;
+    }
+  }
+  std::ostringstream out;
+  out << "Newton did not converge in " << options_.max_newton_iterations << " iterations";
+  *why = out.str();
+  return false;
+}
+
+StepReport StrandDynamics::Step() { return Step(options_.time_step); }
+
+StepReport StrandDynamics::Step(double h) {
+  if (!(std::isfinite(h) && h > 0.0)) {
+    throw std::invalid_argument("time step must be a finite number > 0 (s)");
+  }
+  StepReport report;
+  const StrandState saved = state_;
+  std::string why, first_why;
+  // Depth-first halving: a sub-step of h / 2^depth that fails is replaced by two of half its
+  // length, down to max_halvings.
+  struct Pending {
+    double h;
+    int depth;
+  };
+  std::vector<Pending> stack = {{h, 0}};
+  bool ok = true;
+  while (!stack.empty()) {
+    const Pending p = stack.back();
+    stack.pop_back();
+    if (TryStep(p.h, &report.newton_iterations, &why)) {
+      ++report.substeps;
+      report.halvings = std::max(report.halvings, p.depth);
+      continue;
+    }
+    if (first_why.empty()) first_why = why;
+    if (p.depth >= options_.max_halvings) {
+      ok = false;
+      break;
+    }
+    stack.push_back({0.5 * p.h, p.depth + 1});
+    stack.push_back({0.5 * p.h, p.depth + 1});
+  }
+  if (!ok) {
+    state_ = saved;
+    std::ostringstream out;
+    out << "step of " << h << " s at t = " << saved.time << " s failed after "
+        << options_.max_halvings << " halvings: " << why;
+    report.message = out.str();
+    report.converged = false;
+  } else {
+    report.converged = true;
+    if (report.halvings > 0) {
+      std::ostringstream out;
+      out << "step of " << h << " s at t = " << saved.time << " s halved " << report.halvings
+          << " time(s) (" << report.substeps << " sub-steps): " << first_why;
+      report.message = out.str();
+    }
+  }
+  report.time = state_.time;
+  report.potential = Potential();
+  report.kinetic = Kinetic();
+  return report;
+}
+
+}  // namespace ringlet
