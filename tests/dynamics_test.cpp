@@ -9,11 +9,17 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <complex>
 #include <cstdio>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "dynamics/kinematics.h"
 #include "reference/beam_modes.h"
+#include "ringlet/body.h"
+#include "ringlet/contact.h"
+#include "ringlet/hair_type.h"
 #include "ringlet/statics.h"
 #include "ringlet/strand_geometry.h"
 #include "ringlet/strand_hessian.h"
@@ -207,6 +213,42 @@ TEST(DynamicsKinematics, JacobianTransposeMatchesFiniteDifferences) {
   }
 }
 
+// The curvature of fixed point forces, d^2/dq^2 sum_s F_s . y_s(q) (semiseparable), against
+// central differences of ApplyJacobianTranspose (itself checked above).
+TEST(DynamicsKinematics, ForceCurvatureMatchesFiniteDifferences) {
+  StrandModel m = MakeStrand(0.15, 6, 0.5, Vec3(70.0, -10.0, 30.0), testing::RandomRotation(8));
+  const VecX q = m.NaturalCurvatures() + RandomCurvatures(6, 20.0, 14);
+  const dynamics::GaussRule rule = dynamics::GaussLegendre01(3);
+  dynamics::Kinematics kin;
+  dynamics::ComputeKinematics(m, q, rule, &kin);
+  std::vector<Vec3> forces;
+  for (size_t k = 0; k < kin.samples.size(); ++k) {
+    forces.push_back(RandomCurvatures(1, 1.0, 300 + static_cast<unsigned>(k)));
+  }
+  const std::vector<Mat3> no_adjoints(kin.samples.size(), Mat3::Zero());
+  StrandHessian matrix;
+  matrix.twist = kin.twist;
+  matrix.diagonal.assign(6, Mat3::Zero());
+  matrix.load.assign(6, Mat63::Zero());
+  matrix.translational = true;
+  dynamics::AddForceCurvature(m, q, kin, forces, &matrix);
+  const MatX dense = matrix.Dense();
+  const double eps = 1e-6;
+  MatX fd(18, 18);
+  for (int j = 0; j < 18; ++j) {
+    VecX gp, gm;
+    const VecX e = eps * VecX::Unit(18, j);
+    dynamics::Kinematics kp, km;
+    dynamics::ComputeKinematics(m, q + e, rule, &kp);
+    dynamics::ComputeKinematics(m, q - e, rule, &km);
+    dynamics::ApplyJacobianTranspose(m, q + e, kp, forces, no_adjoints, &gp);
+    dynamics::ApplyJacobianTranspose(m, q - e, km, forces, no_adjoints, &gm);
+    fd.col(j) = (gp - gm) / (2 * eps);
+  }
+  EXPECT_LT((dense - fd).norm(), 1e-6 * fd.norm());
+  EXPECT_LT((dense - dense.transpose()).norm(), 1e-8 * fd.norm());
+}
+
 // ---------------------------------------------------------------------------------------------
 // The independent reference on its own.
 
@@ -342,7 +384,8 @@ TEST(DynamicsModes, StandingColumnLosesStabilityAtGreenhillsLoad) {
 // A weightless cantilever or a hanging rod released from rest in its first mode: the period of
 // the tip, measured from zero crossings over four periods, is backward Euler's
 // omega_h = atan(omega h) / h for the modal omega (the phase per step of 1 / (1 - i omega h)).
-void CheckFreeVibration(const StrandModel& m, const char* name) {
+void CheckFreeVibration(const StrandModel& m, const char* name,
+                        Integrator integrator = Integrator::kBackwardEuler) {
   const int n = m.NumSegments();
   const Modes modes = ComputeModes(m, VecX::Zero(3 * n), 1);
   const double omega = std::sqrt(modes.omega_squared(0));
@@ -351,6 +394,7 @@ void CheckFreeVibration(const StrandModel& m, const char* name) {
   options.internal_friction = 0.0;
   options.air_drag = 0.0;
   options.time_step = period / 200.0;
+  options.integrator = integrator;
   // Amplitude: tip deflection ~1e-4 L (linear regime).
   VecX shape = modes.shapes.col(0);
   const StrandGeometry rest = ComputeGeometry(m, VecX::Zero(3 * n));
@@ -376,8 +420,14 @@ void CheckFreeVibration(const StrandModel& m, const char* name) {
   ASSERT_GE(crossings.size(), 8u);
   const double measured = (crossings.size() - 1) * kPi / (crossings.back() - crossings.front());
   const double h = options.time_step;
-  const double expected = std::atan(omega * h) / h;
-  std::printf("%s: modal omega = %.6f /s, measured %.6f /s, backward Euler's %.6f /s (error %.2e)\n",
+  // Backward Euler: z = 1 / (1 - i omega h). BDF2 (3 z^2 - 4 z + 1 = 2 h lambda z^2, lambda =
+  // i omega): the principal root z = (2 + sqrt(1 + 2 i omega h)) / (3 - 2 i omega h).
+  const std::complex<double> i_omega_h(0.0, omega * h);
+  const std::complex<double> z = integrator == Integrator::kBackwardEuler
+                                     ? 1.0 / (1.0 - i_omega_h)
+                                     : (2.0 + std::sqrt(1.0 + 2.0 * i_omega_h)) / (3.0 - 2.0 * i_omega_h);
+  const double expected = std::arg(z) / h;
+  std::printf("%s: modal omega = %.6f /s, measured %.6f /s, the scheme's %.6f /s (error %.2e)\n",
               name, omega, measured, expected, measured / expected - 1.0);
   EXPECT_NEAR(measured, expected, 1e-4 * expected);
 }
@@ -393,6 +443,182 @@ TEST(DynamicsFreeVibration, WeightlessCantileverPeriodMatchesModes) {
 
 TEST(DynamicsFreeVibration, HangingRodPeriodMatchesModes) {
   CheckFreeVibration(LoadedRod(0.1, 12, 10.0, true), "hanging rod, Gamma = 10");
+  CheckFreeVibration(LoadedRod(0.1, 12, 10.0, true), "hanging rod, Gamma = 10, BDF2",
+                     Integrator::kBdf2);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Consistency with the statics.
+
+double MaxPointDistance(const StrandModel& m, const VecX& a, const VecX& b) {
+  const std::vector<Vec3> pa = SampleCentreline(m, a, 4), pb = SampleCentreline(m, b, 4);
+  double d = 0.0;
+  for (size_t i = 0; i < pa.size(); ++i) d = std::max(d, (pa[i] - pb[i]).norm());
+  return d;
+}
+
+// A curly 20-cm strand, clamped horizontally (its weight bends it), in the hair's air and
+// internal friction.
+StrandModel CurlyStrand() {
+  return MakeStrand(0.2, 15, 0.5, Vec3(40.0, 0.0, 10.0), testing::HorizontalFrame());
+}
+
+// Started at rest on its certified equilibrium, the strand stays within 1e-6 L for 10 s of film
+// frames (240 steps of 1/24 s).
+TEST(DynamicsStatics, RestAtEquilibriumStaysPut) {
+  const StrandModel m = CurlyStrand();
+  const StrandSolution solution = SolveStrand(m);
+  ASSERT_TRUE(solution.summary.Converged() && solution.summary.stable);
+  StrandDynamics dynamics(m, {}, {solution.curvatures, VecX::Zero(45), 0.0});
+  double worst = 0.0;
+  for (int k = 0; k < 240; ++k) {
+    const StepReport report = dynamics.Step();
+    ASSERT_TRUE(report.converged) << report.message;
+    EXPECT_EQ(report.halvings, 0);
+    worst = std::max(worst, MaxPointDistance(m, dynamics.state().curvatures, solution.curvatures));
+  }
+  std::printf("rest at equilibrium: largest drift over 10 s %.3e L\n", worst / m.Length());
+  EXPECT_LT(worst, 1e-6 * m.Length());
+  EXPECT_NEAR(dynamics.state().time, 10.0, 1e-12);
+}
+
+// Released from its natural (gravity-free) shape at rest, the damped strand falls, swings and
+// settles on the equilibrium that SolveStrand finds, within 1e-6 L. Total energy never rises.
+TEST(DynamicsStatics, DampedMotionSettlesOnTheStaticEquilibrium) {
+  const StrandModel m = CurlyStrand();
+  const StrandSolution solution = SolveStrand(m);
+  ASSERT_TRUE(solution.summary.Converged() && solution.summary.stable);
+  StrandDynamics dynamics(m, {}, {m.NaturalCurvatures(), VecX::Zero(45), 0.0});
+  double energy = dynamics.Potential().total + dynamics.Kinetic();
+  int halved = 0, iterations = 0;
+  double distance = 0.0;
+  int k = 0;
+  for (; k < 24 * 60; ++k) {
+    const StepReport report = dynamics.Step();
+    ASSERT_TRUE(report.converged) << report.message;
+    halved += report.halvings > 0;
+    iterations += report.newton_iterations;
+    const double next = report.potential.total + report.kinetic;
+    EXPECT_LE(next, energy + 1e-12 * std::abs(energy)) << "step " << k;
+    energy = next;
+    distance = MaxPointDistance(m, dynamics.state().curvatures, solution.curvatures);
+    if (k >= 24 && distance < 1e-7 * m.Length() && report.kinetic < 1e-20) break;
+  }
+  std::printf("settling: %.2f s (%d steps, %d halved, %.1f Newton iterations per step), distance "
+              "to SolveStrand %.2e L\n", (k + 1) / 24.0, k + 1, halved,
+              static_cast<double>(iterations) / (k + 1), distance / m.Length());
+  EXPECT_LT(distance, 1e-6 * m.Length());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Energy of the implicit steps.
+
+// Without dissipation, backward Euler still loses energy (its numerical damping, 1/(1 + (omega
+// h)^2) per step in each mode's energy): over 10^4 steps the total energy must never rise, and
+// the loss is reported.
+TEST(DynamicsEnergy, UndampedEnergyIsBoundedOverTenThousandSteps) {
+  StrandModel m = MakeStrand(0.1, 6, 0.0, Vec3(30.0, 0.0, 0.0), testing::HorizontalFrame());
+  const StrandSolution solution = SolveStrand(m);
+  ASSERT_TRUE(solution.summary.Converged());
+  for (Integrator integrator : {Integrator::kBackwardEuler, Integrator::kBdf2}) {
+    DynamicsOptions options;
+    options.internal_friction = 0.0;
+    options.air_drag = 0.0;
+    options.time_step = 1e-3;
+    options.integrator = integrator;
+    options.mass_points = 3;
+    StrandDynamics dynamics(m, options, {m.NaturalCurvatures(), VecX::Zero(18), 0.0});
+    const double initial = dynamics.Potential().total + dynamics.Kinetic();
+    const double range = initial - solution.summary.energy.total;  // above the equilibrium
+    double energy = initial, highest = initial, lowest = initial;
+    int rises = 0;
+    for (int k = 0; k < 10000; ++k) {
+      const StepReport report = dynamics.Step();
+      ASSERT_TRUE(report.converged) << report.message;
+      EXPECT_EQ(report.halvings, 0);
+      const double next = report.potential.total + report.kinetic;
+      rises += next > energy + 1e-12 * std::abs(initial);
+      energy = next;
+      highest = std::max(highest, energy);
+      lowest = std::min(lowest, energy);
+    }
+    // Backward Euler's energy never rises; BDF2's need not fall monotonically, but it stays below
+    // the start.
+    if (integrator == Integrator::kBackwardEuler) {
+      EXPECT_EQ(rises, 0);
+    }
+    std::printf("undamped, %s, h = 1 ms: energy above equilibrium %.4e J at start, %.4e J after "
+                "10^4 steps (%.2f%% lost), highest %.3e above the start, %d rises\n",
+                integrator == Integrator::kBdf2 ? "BDF2" : "backward Euler", range,
+                energy - solution.summary.energy.total, 100.0 * (initial - energy) / range,
+                (highest - initial) / range, rises);
+    EXPECT_LE(highest, initial + 1e-3 * range);
+    EXPECT_GE(lowest, solution.summary.energy.total - 1e-12 * std::abs(initial));
+    if (integrator == Integrator::kBdf2) {
+      EXPECT_LT(initial - energy, 0.5 * range);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Film frames with contact.
+
+// Every hair type (the 12 presets of hair_type.h, origin x curl, one strand each), 30 cm,
+// rooted near the top of a spherical head (Body, radius 10 cm), released from its natural shape: one step per film frame (h = 1/24 s) for 3 s, with
+// contact. Every step must converge; halvings are counted and reported.
+TEST(DynamicsFilmFrames, EveryHairTypeWithContactAtOneStepPerFrame) {
+  Body head;
+  std::string error;
+  ASSERT_TRUE(Body::Create({Sphere{Vec3::Zero(), 0.1, "head"}}, {}, &head, &error)) << error;
+  const auto obstacle = std::make_shared<const Body>(std::move(head));
+  int total_halved = 0, total_steps = 0;
+  for (std::string_view origin : HairOrigins()) {
+    for (std::string_view curl : CurlTypes()) {
+      HairType type;
+      ASSERT_TRUE(FindHairType(origin, curl, &type, &error)) << error;
+      const StrandParameters p = SampleStrand(type, 1, 0);
+      StrandModel m;
+      m.section = p.section;
+      m.material = p.material;
+      m.natural_curvature = p.natural_curvature;
+      m.segment_lengths = UniformSegments(0.3, 20);
+      // Rooted near the top of the head (70 degrees up), growing 27 degrees off the scalp
+      // towards the side: gravity lays it on the head.
+      const double angle = 1.2;
+      const Vec3 normal(std::cos(angle), 0.0, std::sin(angle));
+      const Vec3 down_the_scalp(std::sin(angle), 0.0, -std::cos(angle));
+      m.root_position = 0.1 * normal;
+      Mat3 frame;
+      ASSERT_TRUE(RootFrameFromTangentNormal(0.5 * normal + down_the_scalp, Vec3(0, 1, 0), &frame,
+                                             &error)) << error;
+      m.root_frame = frame;
+      m.contact.obstacle = obstacle;
+      m.contact.clearance = 1e-3;
+      StrandDynamics dynamics(m, {}, {m.NaturalCurvatures(), VecX::Zero(60), 0.0});
+      const double initial_depth = MeasureContact(m, m.NaturalCurvatures()).max_penetration;
+      int halved = 0, iterations = 0, contact_steps = 0;
+      double deepest = 0.0;
+      for (int k = 0; k < 72; ++k) {
+        const StepReport report = dynamics.Step();
+        ASSERT_TRUE(report.converged) << origin << " " << curl << ": " << report.message;
+        halved += report.halvings > 0;
+        iterations += report.newton_iterations;
+        const ContactMeasure contact = MeasureContact(m, dynamics.state().curvatures);
+        contact_steps += contact.samples_in_contact > 0;
+        deepest = std::max(deepest, contact.max_penetration);
+      }
+      std::printf("%s %s: 72 frames, %d halved, %.1f Newton iterations per frame, in contact in "
+                  "%d frames, deepest penetration %.2f mm (%.2f mm at the start)\n",
+                  std::string(origin).c_str(), std::string(curl).c_str(), halved,
+                  iterations / 72.0, contact_steps, 1e3 * deepest, 1e3 * initial_depth);
+      EXPECT_GT(contact_steps, 0) << origin << " " << curl;
+      total_halved += halved;
+      total_steps += 72;
+    }
+  }
+  std::printf("film frames: %d of %d steps halved\n", total_halved, total_steps);
+  // Measured: none (3.5-4.5 Newton iterations per frame; 1.5 for the stiff kinky coils).
+  EXPECT_LE(total_halved, total_steps / 20);
 }
 
 }  // namespace

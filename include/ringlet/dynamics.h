@@ -21,10 +21,22 @@ inline constexpr double kHairInternalFriction = 1.6e-10;
 /// moving through still air. Super-Helices (table 1) use nu in [5e-6, 5e-5]; geometric middle.
 inline constexpr double kHairAirDrag = 1.6e-5;
 
+/// The implicit scheme of StrandDynamics (docs/dynamics.md, "Time step").
+enum class Integrator {
+  /// Backward Euler: first order, L-stable, energy-decreasing; its numerical damping takes a
+  /// fraction ~(omega h)^2 of a mode's energy per step (strong at h = 1/24 s).
+  kBackwardEuler,
+  /// BDF2: second order, L-stable, numerical damping ~(omega h)^4 per step; the first step and
+  /// the one after a halving are backward Euler (it needs the previous step of the same length).
+  kBdf2,
+};
+
 /// Options of the dynamics: dissipation, quadrature of the kinetic energy and the implicit step.
 struct DynamicsOptions {
   /// Time step h (s): one film frame by default.
   double time_step = 1.0 / 24.0;
+  /// The implicit scheme.
+  Integrator integrator = Integrator::kBackwardEuler;
   /// Internal friction gamma >= 0 (N m^2 s); 0 = none (docs/dynamics.md, "Dissipation").
   double internal_friction = kHairInternalFriction;
   /// Air drag nu >= 0 (N s/m^2); 0 = none.
@@ -94,17 +106,18 @@ inline constexpr int kMaxModalSegments = 2000;
 Modes ComputeModes(const StrandModel& model, const VecX& curvatures, int count = 0,
                    const DynamicsOptions& options = {});
 
-/// Time integration of one strand by implicit (backward) Euler in the form of an incremental
-/// potential (docs/dynamics.md, "Time step"): q1 minimizes
+/// Time integration of one strand by an implicit scheme (Integrator) in the form of an
+/// incremental potential (docs/dynamics.md, "Time step"). For backward Euler q1 minimizes
 ///   Phi(q) = sum_s [ m_s/(2h^2) |y_s(q) - y_s0 - h v_s0|^2 + nu w_s/(2h) |y_s(q) - y_s0|^2
 ///                    + rotational inertia of the section, same form ]
 ///            + E(q) + gamma/(2h) sum_i l_i |Omega_i - Omega_i0|^2,
 /// over the mass samples s (position y_s, velocity v_s, weight w_s, mass m_s = rho S w_s), with E
-/// the potential energy of the statics (elastic, gravity, contact penalty). Its stationarity is
-/// backward Euler for Lagrange's equations, Coriolis and centrifugal terms included. Newton on the
-/// exact Hessian of E plus the Gauss-Newton Hessian of the inertia (the mass matrix over h^2),
-/// factored in O(n) (StrandHessianFactor), with a backtracking line search on Phi; then
-/// qdot1 = (q1 - q0)/h. Deterministic.
+/// the potential energy of the statics (elastic, gravity, contact penalty); BDF2 has the same form
+/// with other coefficients and predictions. Stationarity of Phi is the scheme applied to
+/// Lagrange's equations, Coriolis and centrifugal terms included. Newton on the exact Hessian of E
+/// plus the Gauss-Newton Hessian of the inertia (the mass matrix over h^2), factored in O(n)
+/// (StrandHessianFactor), with a backtracking line search on Phi; then the rates follow from the
+/// scheme (backward Euler: qdot1 = (q1 - q0)/h). Deterministic.
 class StrandDynamics {
  public:
   /// Throws std::invalid_argument on an invalid model, options or state (sizes, non-finite).
@@ -126,10 +139,14 @@ class StrandDynamics {
 
  private:
   bool TryStep(double h, int* iterations, std::string* why);
+  void Accept(const VecX& curvatures, double h, bool bdf2);
 
   StrandModel model_;
   DynamicsOptions options_;
   StrandState state_;
+  StrandState previous_;     // the state one step back (BDF2)
+  double previous_h_ = 0.0;  // the length of that step (s)
+  bool has_history_ = false;
 };
 
 }  // namespace ringlet

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 #include <stdexcept>
 
 #include "dynamics/kinematics.h"
@@ -39,6 +40,9 @@ bool DynamicsOptions::IsValid(std::string* why) const {
     return fail("dynamics tolerance must be a finite number > 0 (rad)");
   }
   if (max_halvings < 0 || max_halvings > 30) return fail("dynamics max_halvings must be in 0..30");
+  if (integrator != Integrator::kBackwardEuler && integrator != Integrator::kBdf2) {
+    return fail("dynamics integrator must be backward_euler or bdf2");
+  }
   return true;
 }
 
@@ -151,36 +155,79 @@ Modes ComputeModes(const StrandModel& model, const VecX& curvatures, int count,
   return modes;
 }
 
-// The incremental potential of one backward-Euler step (dynamics.h, docs/dynamics.md "Time
-// step"): its value, gradient and Newton matrix at a configuration.
+// The incremental potential of one implicit step (dynamics.h, docs/dynamics.md "Time step"): its
+// value, gradient and Newton matrix at a configuration. Both schemes have the form
+//   Phi(q) = sum_s [ m_s/(2a) |y_s - y~_s|^2 + c nu w_s/2 |y_s - y^_s|^2 ] + E(q)
+//            + c gamma/2 sum_i l_i |Omega_i - Omega^_i|^2  (+ the section's rotational inertia),
+// backward Euler: a = h^2, c = 1/h, y^ = y_n, y~ = y_n + h v_n;
+// BDF2: a = 4h^2/9, c = 3/(2h), y^ = (4 y_n - y_(n-1))/3, y~ = y^ + (2h/3)(4 v_n - v_(n-1))/3,
+// so that stationarity is M a_(n+1) = F(q_(n+1)) - dissipation(v_(n+1)) with each scheme's
+// acceleration and velocity (Hairer & Wanner, Solving ODEs II, section V.1: BDF2 is
+// x_(n+1) - 4/3 x_n + 1/3 x_(n-1) = 2h/3 x'_(n+1)).
 class IncrementalPotential {
  public:
   IncrementalPotential(const StrandModel& model, const DynamicsOptions& options,
-                       const GaussRule& rule, const StrandState& start, double h)
-      : model_(model), options_(options), rule_(rule), start_(start), h_(h), energy_(model) {
-    Kinematics kin;
-    ComputeKinematics(model, start.curvatures, rule, &kin);
-    std::vector<Vec3> angular, linear;
-    dynamics::SampleVelocities(kin, start.rates, &angular, &linear);
-    const size_t count = kin.samples.size();
-    start_positions_.resize(count);
+                       const GaussRule& rule, const StrandState& start,
+                       const StrandState* previous, double h)
+      : model_(model), options_(options), rule_(rule), energy_(model) {
+    const bool bdf2 = previous != nullptr;
+    a_ = bdf2 ? 4.0 * h * h / 9.0 : h * h;
+    c_ = bdf2 ? 1.5 / h : 1.0 / h;
+    // Positions, directors and velocities at t_n (and t_(n-1) for BDF2).
+    struct Snapshot {
+      std::vector<Vec3> y, v, angular;
+      std::vector<Mat3> frame;
+    };
+    auto snapshot = [&](const StrandState& state) {
+      Kinematics kin;
+      ComputeKinematics(model, state.curvatures, rule, &kin);
+      Snapshot out;
+      dynamics::SampleVelocities(kin, state.rates, &out.angular, &out.v);
+      for (const dynamics::Sample& s : kin.samples) {
+        out.y.push_back(s.y);
+        out.frame.push_back(s.frame);
+      }
+      return out;
+    };
+    const Snapshot now = snapshot(start);
+    Snapshot before;
+    if (bdf2) before = snapshot(*previous);
+    const size_t count = now.y.size();
+    anchor_positions_.resize(count);
     predicted_positions_.resize(count);
     predicted_directors_.resize(count);
     for (size_t k = 0; k < count; ++k) {
-      const dynamics::Sample& s = kin.samples[k];
-      start_positions_[k] = s.y;
-      predicted_positions_[k] = s.y + h * linear[k];
-      // n1, n2 moved by the frame's angular velocity (the section's rotational inertia).
+      // Directors n1, n2 and their velocities omega x n (the section's rotational inertia).
+      Mat3 anchor_directors = Mat3::Zero(), director_velocities = Mat3::Zero();
       for (int d = 0; d < 2; ++d) {
-        const Vec3 director = s.frame.col(d);
-        predicted_directors_[k].col(d) = director + h * angular[k].cross(director);
+        const Vec3 director = now.frame[k].col(d);
+        anchor_directors.col(d) = director;
+        director_velocities.col(d) = now.angular[k].cross(director);
       }
-      predicted_directors_[k].col(2).setZero();
+      if (!bdf2) {
+        anchor_positions_[k] = now.y[k];
+        predicted_positions_[k] = now.y[k] + h * now.v[k];
+        predicted_directors_[k] = anchor_directors + h * director_velocities;
+        continue;
+      }
+      anchor_positions_[k] = (4.0 * now.y[k] - before.y[k]) / 3.0;
+      predicted_positions_[k] =
+          anchor_positions_[k] + (2.0 * h / 3.0) * (4.0 * now.v[k] - before.v[k]) / 3.0;
+      Mat3 old_directors = Mat3::Zero(), old_velocities = Mat3::Zero();
+      for (int d = 0; d < 2; ++d) {
+        const Vec3 director = before.frame[k].col(d);
+        old_directors.col(d) = director;
+        old_velocities.col(d) = before.angular[k].cross(director);
+      }
+      predicted_directors_[k] = (4.0 * anchor_directors - old_directors) / 3.0 +
+                                (2.0 * h / 3.0) * (4.0 * director_velocities - old_velocities) / 3.0;
     }
+    anchor_curvatures_ = bdf2 ? VecX((4.0 * start.curvatures - previous->curvatures) / 3.0)
+                              : start.curvatures;
     extra_.resize(static_cast<size_t>(model.NumSegments()));
     for (int i = 0; i < model.NumSegments(); ++i) {
       extra_[static_cast<size_t>(i)] =
-          options.internal_friction * model.segment_lengths[static_cast<size_t>(i)] / h;
+          c_ * options.internal_friction * model.segment_lengths[static_cast<size_t>(i)];
     }
   }
 
@@ -189,7 +236,7 @@ class IncrementalPotential {
   double Evaluate(const VecX& q, VecX* gradient) {
     ComputeKinematics(model_, q, rule_, &kin_);
     const double line_density = model_.material.density * model_.section.Area();
-    const double inv_h2 = 1.0 / (h_ * h_);
+    const double inv_a = 1.0 / a_;
     const size_t count = kin_.samples.size();
     forces_.resize(count);
     adjoints_.resize(count);
@@ -199,16 +246,16 @@ class IncrementalPotential {
       const dynamics::Sample& s = kin_.samples[k];
       const double mass = line_density * s.weight;
       const Vec3 miss = s.y - predicted_positions_[k];
-      const Vec3 moved = s.y - start_positions_[k];
-      const double drag = options_.air_drag * s.weight;
-      inertia += 0.5 * mass * inv_h2 * miss.squaredNorm() + 0.5 * drag / h_ * moved.squaredNorm();
-      forces_[k] = (mass * inv_h2) * miss + (drag / h_) * moved;
+      const Vec3 moved = s.y - anchor_positions_[k];
+      const double drag = c_ * options_.air_drag * s.weight;
+      inertia += 0.5 * mass * inv_a * miss.squaredNorm() + 0.5 * drag * moved.squaredNorm();
+      forces_[k] = (mass * inv_a) * miss + drag * moved;
       adjoints_[k].setZero();
       if (options_.rotational_inertia) {
-        // 1/2 rho w (I2 |n1 - n1~|^2 + I1 |n2 - n2~|^2) / h^2: the kinetic energy
+        // 1/2 rho w (I2 |n1 - n1~|^2 + I1 |n2 - n2~|^2) / a: the kinetic energy
         // 1/2 rho (I2 |dn1/dt|^2 + I1 |dn2/dt|^2) of the section (docs/dynamics.md).
-        const double c[2] = {model_.material.density * s.weight * i2 * inv_h2,
-                             model_.material.density * s.weight * i1 * inv_h2};
+        const double c[2] = {model_.material.density * s.weight * i2 * inv_a,
+                             model_.material.density * s.weight * i1 * inv_a};
         for (int d = 0; d < 2; ++d) {
           const Vec3 miss_d = s.frame.col(d) - predicted_directors_[k].col(d);
           inertia += 0.5 * c[d] * miss_d.squaredNorm();
@@ -218,7 +265,7 @@ class IncrementalPotential {
     }
     double dissipation = 0.0;
     for (int i = 0; i < model_.NumSegments(); ++i) {
-      const Vec3 change = q.segment<3>(3 * i) - start_.curvatures.segment<3>(3 * i);
+      const Vec3 change = q.segment<3>(3 * i) - anchor_curvatures_.segment<3>(3 * i);
       dissipation += 0.5 * extra_[static_cast<size_t>(i)] * change.squaredNorm();
     }
     const double potential = energy_.Evaluate(q, gradient ? &energy_gradient_ : nullptr);
@@ -228,29 +275,32 @@ class IncrementalPotential {
       for (int i = 0; i < model_.NumSegments(); ++i) {
         gradient->segment<3>(3 * i) +=
             extra_[static_cast<size_t>(i)] *
-            (q.segment<3>(3 * i) - start_.curvatures.segment<3>(3 * i));
+            (q.segment<3>(3 * i) - anchor_curvatures_.segment<3>(3 * i));
       }
     }
     return inertia + dissipation + potential;
   }
 
-  // The Newton matrix at the q of the last Evaluate: M/h^2 + nu-drag/h (Gauss-Newton) + the
-  // exact Hessian of E + gamma l_i / h.
+  // The Newton matrix at the q of the last Evaluate (its forces): M/a + c nu-drag (Gauss-Newton)
+  // + the curvature of those forces + the exact Hessian of E + c gamma l_i.
   void NewtonMatrix(const VecX& q, StrandHessian* matrix) {
-    dynamics::AssembleMetric(model_, options_, kin_, 1.0 / (h_ * h_), 1.0 / h_, matrix);
+    dynamics::AssembleMetric(model_, options_, kin_, 1.0 / a_, c_, matrix);
     ComputeStrandHessian(model_, q, &hessian_);
     AddHessian(hessian_, extra_, matrix);
+    // The curvature of the inertial and drag forces (the rest of the inertia's exact Hessian;
+    // the section's rotational part, of order rho I / (rho S L^2) ~ 1e-7, is left out).
+    dynamics::AddForceCurvature(model_, q, kin_, forces_, matrix);
   }
 
  private:
   const StrandModel& model_;
   const DynamicsOptions& options_;
   const GaussRule& rule_;
-  const StrandState& start_;
-  double h_;
+  double a_ = 0.0, c_ = 0.0;
   StrandEnergy energy_;
-  std::vector<Vec3> start_positions_, predicted_positions_;
+  std::vector<Vec3> anchor_positions_, predicted_positions_;
   std::vector<Mat3> predicted_directors_;
+  VecX anchor_curvatures_;
   std::vector<double> extra_;
   Kinematics kin_;
   std::vector<Vec3> forces_;
@@ -277,7 +327,10 @@ EnergyTerms StrandDynamics::Potential() const {
 
 bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
   const GaussRule rule = GaussLegendre01(options_.mass_points);
-  IncrementalPotential phi(model_, options_, rule, state_, h);
+  // BDF2 needs the previous state one step of the same length back; otherwise (the first step,
+  // after a halving) backward Euler starts it again.
+  const bool bdf2 = options_.integrator == Integrator::kBdf2 && has_history_ && previous_h_ == h;
+  IncrementalPotential phi(model_, options_, rule, state_, bdf2 ? &previous_ : nullptr, h);
   const int n = model_.NumSegments();
   VecX q = state_.curvatures + h * state_.rates;  // the explicit predictor
   VecX gradient, step, trial;
@@ -319,9 +372,7 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
     const double slope = gradient.dot(step);  // < 0
     if (change <= options_.tolerance) {
       q += step;
-      state_.rates = (q - state_.curvatures) / h;
-      state_.curvatures = q;
-      state_.time += h;
+      Accept(q, h, bdf2);
       return true;
     }
     // Backtracking line search on Phi (Armijo, c = 1e-4).
@@ -352,9 +403,7 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
     value = trial_value;
     gradient = trial_gradient;
     if (alpha * change <= options_.tolerance) {
-      state_.rates = (q - state_.curvatures) / h;
-      state_.curvatures = q;
-      state_.time += h;
+      Accept(q, h, bdf2);
       return true;
     }
   }
@@ -364,6 +413,18 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
   return false;
 }
 
+void StrandDynamics::Accept(const VecX& q, double h, bool bdf2) {
+  // Rates: backward Euler (q1 - q0) / h; BDF2 (3 q1 - 4 q0 + q_(-1)) / (2h).
+  VecX rates = bdf2 ? VecX((3.0 * q - 4.0 * state_.curvatures + previous_.curvatures) / (2.0 * h))
+                    : VecX((q - state_.curvatures) / h);
+  previous_ = state_;
+  previous_h_ = h;
+  has_history_ = true;
+  state_.curvatures = q;
+  state_.rates = std::move(rates);
+  state_.time += h;
+}
+
 StepReport StrandDynamics::Step() { return Step(options_.time_step); }
 
 StepReport StrandDynamics::Step(double h) {
@@ -371,7 +432,9 @@ StepReport StrandDynamics::Step(double h) {
     throw std::invalid_argument("time step must be a finite number > 0 (s)");
   }
   StepReport report;
-  const StrandState saved = state_;
+  const StrandState saved = state_, saved_previous = previous_;
+  const double saved_previous_h = previous_h_;
+  const bool saved_history = has_history_;
   std::string why, first_why;
   // Depth-first halving: a sub-step of h / 2^depth that fails is replaced by two of half its
   // length, down to max_halvings.
@@ -399,6 +462,9 @@ StepReport StrandDynamics::Step(double h) {
   }
   if (!ok) {
     state_ = saved;
+    previous_ = saved_previous;
+    previous_h_ = saved_previous_h;
+    has_history_ = saved_history;
     std::ostringstream out;
     out << "step of " << h << " s at t = " << saved.time << " s failed after "
         << options_.max_halvings << " halvings: " << why;

@@ -65,4 +65,14 @@ void ApplyJacobianTranspose(const StrandModel& model, const VecX& curvatures,
                             const Kinematics& kinematics, const std::vector<Vec3>& forces,
                             const std::vector<Mat3>& frame_adjoints, VecX* gradient);
 
+/// Adds to `matrix` (block-semiseparable with the twists of kinematics) the curvature term of
+/// point forces held fixed, d^2/dq^2 sum_s F_s . y_s(q): the part of the exact Hessian of
+/// sum_s 1/2 m_s |y_s - y~_s|^2 / a that the Gauss-Newton metric leaves out (docs/dynamics.md,
+/// "Newton matrix"). Off-diagonal blocks in closed form (H_ab = S_a^T B_b, a < b, with
+/// d^2 y_s / dq_a dq_b = omega_a x dy_s/dq_b), diagonal blocks by central differences of the
+/// segment's own reverse-sweep step (HelixSegmentVjp), O(n) in all.
+void AddForceCurvature(const StrandModel& model, const VecX& curvatures,
+                       const Kinematics& kinematics, const std::vector<Vec3>& forces,
+                       StrandHessian* matrix);
+
 }  // namespace ringlet::dynamics
