@@ -11,7 +11,9 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -619,6 +621,84 @@ TEST(DynamicsFilmFrames, EveryHairTypeWithContactAtOneStepPerFrame) {
   std::printf("film frames: %d of %d steps halved\n", total_halved, total_steps);
   // Measured: none (3.5-4.5 Newton iterations per frame; 1.5 for the stiff kinky coils).
   EXPECT_LE(total_halved, total_steps / 20);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reports, determinism, bad input.
+
+// A step whose Newton iterations run out is halved and says so; with no halving allowed it fails,
+// says why and leaves the state as it was.
+TEST(DynamicsSteps, HalvingIsReportedAndFailureLeavesTheStateUnchanged) {
+  const StrandModel m = CurlyStrand();
+  DynamicsOptions options;
+  options.max_newton_iterations = 4;
+  StrandDynamics halving(m, options, {m.NaturalCurvatures(), VecX::Zero(45), 0.0});
+  const StepReport report = halving.Step();
+  ASSERT_TRUE(report.converged) << report.message;
+  EXPECT_GT(report.halvings, 0);
+  EXPECT_GT(report.substeps, 1);
+  EXPECT_NE(report.message.find("halved"), std::string::npos) << report.message;
+  EXPECT_NEAR(report.time, 1.0 / 24.0, 1e-15);
+
+  options.max_halvings = 0;
+  StrandDynamics failing(m, options, {m.NaturalCurvatures(), VecX::Zero(45), 0.0});
+  const StepReport failed = failing.Step();
+  EXPECT_FALSE(failed.converged);
+  EXPECT_NE(failed.message.find("Newton did not converge in 4"), std::string::npos) << failed.message;
+  EXPECT_EQ(failing.state().curvatures, m.NaturalCurvatures());
+  EXPECT_EQ(failing.state().rates, VecX::Zero(45));
+  EXPECT_EQ(failing.state().time, 0.0);
+}
+
+// The same run twice gives the same bits (no threads, no uninitialized state).
+TEST(DynamicsSteps, Deterministic) {
+  const StrandModel m = CurlyStrand();
+  DynamicsOptions options;
+  options.integrator = Integrator::kBdf2;
+  StrandDynamics a(m, options, {m.NaturalCurvatures(), VecX::Zero(45), 0.0});
+  StrandDynamics b(m, options, {m.NaturalCurvatures(), VecX::Zero(45), 0.0});
+  for (int k = 0; k < 12; ++k) {
+    a.Step();
+    b.Step();
+  }
+  EXPECT_EQ(a.state().curvatures, b.state().curvatures);
+  EXPECT_EQ(a.state().rates, b.state().rates);
+}
+
+TEST(DynamicsSteps, BadInputIsRefusedWithTheFieldNamed) {
+  const StrandModel m = CurlyStrand();
+  auto message = [&](const DynamicsOptions& options, const StrandState& state) {
+    try {
+      StrandDynamics dynamics(m, options, state);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const StrandState good{m.NaturalCurvatures(), VecX::Zero(45), 0.0};
+  DynamicsOptions options;
+  EXPECT_EQ(message(options, good), "");
+  options.time_step = 0.0;
+  EXPECT_NE(message(options, good).find("time_step"), std::string::npos);
+  options = {};
+  options.air_drag = -1.0;
+  EXPECT_NE(message(options, good).find("air_drag"), std::string::npos);
+  options = {};
+  options.internal_friction = std::nan("");
+  EXPECT_NE(message(options, good).find("internal_friction"), std::string::npos);
+  options = {};
+  options.mass_points = 9;
+  EXPECT_NE(message(options, good).find("mass_points"), std::string::npos);
+  StrandState bad = good;
+  bad.rates = VecX::Zero(44);
+  EXPECT_NE(message({}, bad).find("rates must be 45"), std::string::npos);
+  bad = good;
+  bad.curvatures(3) = std::numeric_limits<double>::infinity();
+  EXPECT_NE(message({}, bad).find("curvatures must be 45 finite"), std::string::npos);
+  StrandDynamics dynamics(m, {}, good);
+  EXPECT_THROW(dynamics.Step(-1.0), std::invalid_argument);
+  StrandModel big = MakeStrand(1.0, kMaxModalSegments + 1);
+  EXPECT_THROW(ComputeModes(big, VecX::Zero(3 * big.NumSegments()), 1), std::invalid_argument);
 }
 
 }  // namespace
