@@ -132,8 +132,16 @@ class StrandDynamics {
   const StrandState& state() const { return state_; }
   const StrandModel& model() const { return model_; }
   const DynamicsOptions& options() const { return options_; }
-  /// Kinetic energy of the current state (J).
+  /// Kinetic energy of the current state (J), from the scheme's sample velocities (differences of
+  /// sample positions and directors); at the initial state, KineticEnergy(model, state).
   double Kinetic() const;
+
+  /// The mass samples' motion: positions y_s relative to the root (m), directors (n1, n2, 0) and
+  /// their velocities (m/s, 1/s). Internal to the time step; public for its implementation.
+  struct SampleMotion {
+    std::vector<Vec3> positions, velocities;
+    std::vector<Mat3> directors, director_velocities;
+  };
   /// Potential energy terms of the current state (J).
   EnergyTerms Potential() const;
 
@@ -147,6 +155,8 @@ class StrandDynamics {
   StrandState previous_;     // the state one step back (BDF2)
   double previous_h_ = 0.0;  // the length of that step (s)
   bool has_history_ = false;
+  SampleMotion motion_;           // of state_
+  SampleMotion previous_motion_;  // of previous_
 };
 
 }  // namespace ringlet

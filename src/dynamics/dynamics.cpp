@@ -155,6 +155,38 @@ Modes ComputeModes(const StrandModel& model, const VecX& curvatures, int count,
   return modes;
 }
 
+// Positions and directors (n1, n2; third column zero) of the mass samples at a configuration.
+void SamplePlaces(const StrandModel& model, const VecX& curvatures, const GaussRule& rule,
+                  StrandDynamics::SampleMotion* motion) {
+  Kinematics kin;
+  ComputeKinematics(model, curvatures, rule, &kin);
+  motion->positions.resize(kin.samples.size());
+  motion->directors.resize(kin.samples.size());
+  for (size_t k = 0; k < kin.samples.size(); ++k) {
+    motion->positions[k] = kin.samples[k].y;
+    motion->directors[k] = kin.samples[k].frame;
+    motion->directors[k].col(2).setZero();
+  }
+}
+
+// The motion of a state from its rates: velocities J qdot, director velocities omega x n.
+StrandDynamics::SampleMotion MotionFromRates(const StrandModel& model, const StrandState& state,
+                                             const GaussRule& rule) {
+  Kinematics kin;
+  ComputeKinematics(model, state.curvatures, rule, &kin);
+  std::vector<Vec3> angular;
+  StrandDynamics::SampleMotion motion;
+  dynamics::SampleVelocities(kin, state.rates, &angular, &motion.velocities);
+  SamplePlaces(model, state.curvatures, rule, &motion);
+  motion.director_velocities.resize(kin.samples.size());
+  for (size_t k = 0; k < kin.samples.size(); ++k) {
+    Mat3& dv = motion.director_velocities[k];
+    dv.setZero();
+    for (int d = 0; d < 2; ++d) dv.col(d) = angular[k].cross(motion.directors[k].col(d));
+  }
+  return motion;
+}
+
 // The incremental potential of one implicit step (dynamics.h, docs/dynamics.md "Time step"): its
 // value, gradient and Newton matrix at a configuration. Both schemes have the form
 //   Phi(q) = sum_s [ m_s/(2a) |y_s - y~_s|^2 + c nu w_s/2 |y_s - y^_s|^2 ] + E(q)
@@ -168,59 +200,30 @@ class IncrementalPotential {
  public:
   IncrementalPotential(const StrandModel& model, const DynamicsOptions& options,
                        const GaussRule& rule, const StrandState& start,
-                       const StrandState* previous, double h)
+                       const StrandDynamics::SampleMotion& now, const StrandState* previous,
+                       const StrandDynamics::SampleMotion* before, double h)
       : model_(model), options_(options), rule_(rule), energy_(model) {
     const bool bdf2 = previous != nullptr;
     a_ = bdf2 ? 4.0 * h * h / 9.0 : h * h;
     c_ = bdf2 ? 1.5 / h : 1.0 / h;
-    // Positions, directors and velocities at t_n (and t_(n-1) for BDF2).
-    struct Snapshot {
-      std::vector<Vec3> y, v, angular;
-      std::vector<Mat3> frame;
-    };
-    auto snapshot = [&](const StrandState& state) {
-      Kinematics kin;
-      ComputeKinematics(model, state.curvatures, rule, &kin);
-      Snapshot out;
-      dynamics::SampleVelocities(kin, state.rates, &out.angular, &out.v);
-      for (const dynamics::Sample& s : kin.samples) {
-        out.y.push_back(s.y);
-        out.frame.push_back(s.frame);
-      }
-      return out;
-    };
-    const Snapshot now = snapshot(start);
-    Snapshot before;
-    if (bdf2) before = snapshot(*previous);
-    const size_t count = now.y.size();
+    const size_t count = now.positions.size();
     anchor_positions_.resize(count);
     predicted_positions_.resize(count);
     predicted_directors_.resize(count);
     for (size_t k = 0; k < count; ++k) {
-      // Directors n1, n2 and their velocities omega x n (the section's rotational inertia).
-      Mat3 anchor_directors = Mat3::Zero(), director_velocities = Mat3::Zero();
-      for (int d = 0; d < 2; ++d) {
-        const Vec3 director = now.frame[k].col(d);
-        anchor_directors.col(d) = director;
-        director_velocities.col(d) = now.angular[k].cross(director);
-      }
       if (!bdf2) {
-        anchor_positions_[k] = now.y[k];
-        predicted_positions_[k] = now.y[k] + h * now.v[k];
-        predicted_directors_[k] = anchor_directors + h * director_velocities;
+        anchor_positions_[k] = now.positions[k];
+        predicted_positions_[k] = now.positions[k] + h * now.velocities[k];
+        predicted_directors_[k] = now.directors[k] + h * now.director_velocities[k];
         continue;
       }
-      anchor_positions_[k] = (4.0 * now.y[k] - before.y[k]) / 3.0;
+      anchor_positions_[k] = (4.0 * now.positions[k] - before->positions[k]) / 3.0;
       predicted_positions_[k] =
-          anchor_positions_[k] + (2.0 * h / 3.0) * (4.0 * now.v[k] - before.v[k]) / 3.0;
-      Mat3 old_directors = Mat3::Zero(), old_velocities = Mat3::Zero();
-      for (int d = 0; d < 2; ++d) {
-        const Vec3 director = before.frame[k].col(d);
-        old_directors.col(d) = director;
-        old_velocities.col(d) = before.angular[k].cross(director);
-      }
-      predicted_directors_[k] = (4.0 * anchor_directors - old_directors) / 3.0 +
-                                (2.0 * h / 3.0) * (4.0 * director_velocities - old_velocities) / 3.0;
+          anchor_positions_[k] +
+          (2.0 * h / 3.0) * (4.0 * now.velocities[k] - before->velocities[k]) / 3.0;
+      predicted_directors_[k] =
+          (4.0 * now.directors[k] - before->directors[k]) / 3.0 +
+          (2.0 * h / 3.0) * (4.0 * now.director_velocities[k] - before->director_velocities[k]) / 3.0;
     }
     anchor_curvatures_ = bdf2 ? VecX((4.0 * start.curvatures - previous->curvatures) / 3.0)
                               : start.curvatures;
@@ -314,9 +317,32 @@ StrandDynamics::StrandDynamics(const StrandModel& model, const DynamicsOptions& 
     : model_(model), options_(options), state_(initial) {
   CheckInputs(model_, options_, state_.curvatures, &state_.rates);
   if (!std::isfinite(state_.time)) throw std::invalid_argument("state time must be finite (s)");
+  motion_ = MotionFromRates(model_, state_, GaussLegendre01(options_.mass_points));
 }
 
-double StrandDynamics::Kinetic() const { return KineticEnergy(model_, state_, options_); }
+double StrandDynamics::Kinetic() const {
+  // 1/2 sum_s (m_s |v_s|^2 + rho w_s (I2 |dn1/dt|^2 + I1 |dn2/dt|^2)): with v = J qdot and
+  // dn/dt = omega x n this is KineticEnergy's 1/2 qdot^T M qdot.
+  const GaussRule rule = GaussLegendre01(options_.mass_points);
+  const double line_density = model_.material.density * model_.section.Area();
+  const double i1 = model_.section.I1(), i2 = model_.section.I2();
+  double kinetic = 0.0;
+  const int n = model_.NumSegments();
+  for (int i = 0; i < n; ++i) {
+    const double l = model_.segment_lengths[static_cast<size_t>(i)];
+    for (size_t j = 0; j < rule.nodes.size(); ++j) {
+      const size_t k = static_cast<size_t>(i) * rule.nodes.size() + j;
+      const double w = rule.weights[j] * l;
+      kinetic += 0.5 * line_density * w * motion_.velocities[k].squaredNorm();
+      if (options_.rotational_inertia) {
+        kinetic += 0.5 * model_.material.density * w *
+                   (i2 * motion_.director_velocities[k].col(0).squaredNorm() +
+                    i1 * motion_.director_velocities[k].col(1).squaredNorm());
+      }
+    }
+  }
+  return kinetic;
+}
 
 EnergyTerms StrandDynamics::Potential() const {
   StrandEnergy energy(model_);
@@ -330,7 +356,8 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
   // BDF2 needs the previous state one step of the same length back; otherwise (the first step,
   // after a halving) backward Euler starts it again.
   const bool bdf2 = options_.integrator == Integrator::kBdf2 && has_history_ && previous_h_ == h;
-  IncrementalPotential phi(model_, options_, rule, state_, bdf2 ? &previous_ : nullptr, h);
+  IncrementalPotential phi(model_, options_, rule, state_, motion_, bdf2 ? &previous_ : nullptr,
+                           bdf2 ? &previous_motion_ : nullptr, h);
   const int n = model_.NumSegments();
   VecX q = state_.curvatures + h * state_.rates;  // the explicit predictor
   VecX gradient, step, trial;
@@ -414,10 +441,31 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
 }
 
 void StrandDynamics::Accept(const VecX& q, double h, bool bdf2) {
-  // Rates: backward Euler (q1 - q0) / h; BDF2 (3 q1 - 4 q0 + q_(-1)) / (2h).
+  // Rates: backward Euler (q1 - q0) / h; BDF2 (3 q1 - 4 q0 + q_(-1)) / (2h). The samples'
+  // velocities by the same formulas on their positions and directors: the scheme's velocities,
+  // which the next step predicts from (J qdot would differ by O(h) and, over large rotations in
+  // one step, feed energy in; docs/dynamics.md).
   VecX rates = bdf2 ? VecX((3.0 * q - 4.0 * state_.curvatures + previous_.curvatures) / (2.0 * h))
                     : VecX((q - state_.curvatures) / h);
+  SampleMotion next;
+  SamplePlaces(model_, q, GaussLegendre01(options_.mass_points), &next);
+  const size_t count = next.positions.size();
+  next.velocities.resize(count);
+  next.director_velocities.resize(count);
+  for (size_t k = 0; k < count; ++k) {
+    if (bdf2) {
+      next.velocities[k] = (3.0 * next.positions[k] - 4.0 * motion_.positions[k] +
+                            previous_motion_.positions[k]) / (2.0 * h);
+      next.director_velocities[k] = (3.0 * next.directors[k] - 4.0 * motion_.directors[k] +
+                                     previous_motion_.directors[k]) / (2.0 * h);
+    } else {
+      next.velocities[k] = (next.positions[k] - motion_.positions[k]) / h;
+      next.director_velocities[k] = (next.directors[k] - motion_.directors[k]) / h;
+    }
+  }
   previous_ = state_;
+  previous_motion_ = std::move(motion_);
+  motion_ = std::move(next);
   previous_h_ = h;
   has_history_ = true;
   state_.curvatures = q;
@@ -433,6 +481,7 @@ StepReport StrandDynamics::Step(double h) {
   }
   StepReport report;
   const StrandState saved = state_, saved_previous = previous_;
+  const SampleMotion saved_motion = motion_, saved_previous_motion = previous_motion_;
   const double saved_previous_h = previous_h_;
   const bool saved_history = has_history_;
   std::string why, first_why;
@@ -463,6 +512,8 @@ StepReport StrandDynamics::Step(double h) {
   if (!ok) {
     state_ = saved;
     previous_ = saved_previous;
+    motion_ = saved_motion;
+    previous_motion_ = saved_previous_motion;
     previous_h_ = saved_previous_h;
     has_history_ = saved_history;
     std::ostringstream out;
