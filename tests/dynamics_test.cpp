@@ -541,6 +541,61 @@ TEST(DynamicsStatics, SettlesFromADisturbedStartWithEitherScheme) {
   }
 }
 
+// A moving clamp: the root accelerates uniformly, r(0)(t) = r0 + a t^2 / 2, frame fixed. In the
+// clamp's frame the strand feels gravity g - a (the inertial force of the moving frame), so with
+// damping it settles, relative to the clamp, on the equilibrium SolveStrand finds for gravity
+// g - a, within 1e-6 L; the frame's inertia comes from the step's world positions alone. A clamp
+// moving at constant velocity (a = 0, Galilean invariance) keeps a strand at rest on its
+// equilibrium.
+TEST(DynamicsClamp, UniformlyAcceleratedClampSettlesOnTheEquilibriumOfGravityMinusAcceleration) {
+  const StrandModel m = CurlyStrand();
+  const Vec3 a(2.0, -1.0, 3.0);
+  StrandModel felt = m;
+  felt.gravity = m.gravity - a;
+  const StrandSolution target = SolveStrand(felt);
+  ASSERT_TRUE(target.summary.Converged() && target.summary.stable);
+  const StrandSolution still = SolveStrand(m);
+  const double far = MaxPointDistance(m, target.curvatures, still.curvatures);
+  ASSERT_GT(far, 0.05 * m.Length());  // the acceleration changes the shape
+  // Still air would drag the moving strand back (a force -nu dr/dt in world velocity, physical):
+  // internal friction only, so that the frame's inertia alone makes the difference.
+  DynamicsOptions options;
+  options.air_drag = 0.0;
+  StrandDynamics dynamics(m, options, {m.NaturalCurvatures(), VecX::Zero(45), 0.0});
+  const Vec3 r0 = m.root_position;
+  const Mat3 q0 = m.root_frame;
+  dynamics.SetClampMotion({[=](double t) -> Vec3 { return r0 + 0.5 * t * t * a; },
+                           [=](double) -> Mat3 { return q0; }});
+  double distance = 0.0;
+  int k = 0;
+  for (; k < 24 * 60; ++k) {
+    const StepReport report = dynamics.Step();
+    ASSERT_TRUE(report.converged) << report.message;
+    distance = MaxPointDistance(m, dynamics.state().curvatures, target.curvatures);
+    if (k >= 24 && distance < 1e-7 * m.Length()) break;
+  }
+  std::printf("accelerated clamp: settled after %.2f s within %.2e L of the equilibrium under g - a "
+              "(that of g alone is %.2f L away); the root moved %.1f m\n",
+              (k + 1) / 24.0, distance / m.Length(), far / m.Length(),
+              (dynamics.model().root_position - r0).norm());
+  EXPECT_LT(distance, 1e-6 * m.Length());
+
+  // Constant velocity: at rest on the equilibrium relative to the clamp, it stays there.
+  const Vec3 v(0.5, 0.2, -0.3);
+  StrandDynamics moving(m, options, {still.curvatures, VecX::Zero(45), 0.0});
+  moving.SetClampMotion({[=](double t) -> Vec3 { return r0 + t * v; },
+                         [=](double) -> Mat3 { return q0; }});
+  double worst = 0.0;
+  for (int j = 0; j < 48; ++j) {
+    const StepReport report = moving.Step();
+    ASSERT_TRUE(report.converged) << report.message;
+    worst = std::max(worst, MaxPointDistance(m, moving.state().curvatures, still.curvatures));
+  }
+  std::printf("clamp at constant velocity: drift over 2 s %.2e L\n", worst / m.Length());
+  EXPECT_LT(worst, 1e-6 * m.Length());
+  EXPECT_THROW(moving.SetClampMotion({}), std::logic_error);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Energy of the implicit steps.
 

@@ -3,6 +3,7 @@
 // docs/dynamics.md derives every formula cited here.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -106,6 +107,14 @@ inline constexpr int kMaxModalSegments = 2000;
 Modes ComputeModes(const StrandModel& model, const VecX& curvatures, int count = 0,
                    const DynamicsOptions& options = {});
 
+/// A prescribed rigid motion of the root (the head moving): where the clamp is at time t. Both
+/// functions must be smooth in t; the initial velocity of the clamp is taken from them by central
+/// differences over 1e-6 s.
+struct ClampMotion {
+  std::function<Vec3(double)> position;  ///< r(0) at time t (m, world)
+  std::function<Mat3(double)> frame;     ///< root frame (n1, n2, t) at time t, a proper rotation
+};
+
 /// Time integration of one strand by an implicit scheme (Integrator) in the form of an
 /// incremental potential (docs/dynamics.md, "Time step"). For backward Euler q1 minimizes
 ///   Phi(q) = sum_s [ m_s/(2h^2) |y_s(q) - y_s0 - h v_s0|^2 + nu w_s/(2h) |y_s(q) - y_s0|^2
@@ -123,6 +132,12 @@ class StrandDynamics {
   /// Throws std::invalid_argument on an invalid model, options or state (sizes, non-finite).
   StrandDynamics(const StrandModel& model, const DynamicsOptions& options,
                  const StrandState& initial);
+
+  /// Moves the root with `clamp` from now on (before the first step only; throws
+  /// std::logic_error after it, std::invalid_argument when a function is empty). The inertial
+  /// terms of the moving frame need no extra code: the time step's inertia is written in world
+  /// positions (docs/dynamics.md, "Moving clamp"). The state's rates stay relative to the clamp.
+  void SetClampMotion(ClampMotion clamp);
 
   /// Advances by options.time_step (halving on non-convergence, reported).
   StepReport Step();
@@ -147,7 +162,7 @@ class StrandDynamics {
 
  private:
   bool TryStep(double h, int* iterations, std::string* why);
-  void Accept(const VecX& curvatures, double h, bool bdf2);
+  void Accept(const StrandModel& stepped, const VecX& curvatures, double h, bool bdf2);
 
   StrandModel model_;
   DynamicsOptions options_;
@@ -157,6 +172,7 @@ class StrandDynamics {
   bool has_history_ = false;
   SampleMotion motion_;           // of state_
   SampleMotion previous_motion_;  // of previous_
+  ClampMotion clamp_;             // empty: the root stays where model_ puts it
 };
 
 }  // namespace ringlet

@@ -155,7 +155,8 @@ Modes ComputeModes(const StrandModel& model, const VecX& curvatures, int count,
   return modes;
 }
 
-// Positions and directors (n1, n2; third column zero) of the mass samples at a configuration.
+// World positions and directors (n1, n2; third column zero) of the mass samples at a
+// configuration, with the root where the model puts it.
 void SamplePlaces(const StrandModel& model, const VecX& curvatures, const GaussRule& rule,
                   StrandDynamics::SampleMotion* motion) {
   Kinematics kin;
@@ -163,26 +164,36 @@ void SamplePlaces(const StrandModel& model, const VecX& curvatures, const GaussR
   motion->positions.resize(kin.samples.size());
   motion->directors.resize(kin.samples.size());
   for (size_t k = 0; k < kin.samples.size(); ++k) {
-    motion->positions[k] = kin.samples[k].y;
+    motion->positions[k] = model.root_position + kin.samples[k].y;  // world
     motion->directors[k] = kin.samples[k].frame;
     motion->directors[k].col(2).setZero();
   }
 }
 
-// The motion of a state from its rates: velocities J qdot, director velocities omega x n.
+// The motion of a state from its rates: velocities J qdot, director velocities omega x n, plus
+// the clamp's rigid motion when it moves (velocity v0 and angular velocity w0 by central
+// differences of its functions: y' += v0 + w0 x (y - r(0)), n' += w0 x n).
 StrandDynamics::SampleMotion MotionFromRates(const StrandModel& model, const StrandState& state,
-                                             const GaussRule& rule) {
+                                             const GaussRule& rule, const ClampMotion* clamp) {
   Kinematics kin;
   ComputeKinematics(model, state.curvatures, rule, &kin);
   std::vector<Vec3> angular;
   StrandDynamics::SampleMotion motion;
   dynamics::SampleVelocities(kin, state.rates, &angular, &motion.velocities);
   SamplePlaces(model, state.curvatures, rule, &motion);
+  Vec3 v0 = Vec3::Zero(), w0 = Vec3::Zero();
+  if (clamp) {
+    const double dt = 1e-6;
+    v0 = (clamp->position(state.time + dt) - clamp->position(state.time - dt)) / (2.0 * dt);
+    const Mat3 dq = (clamp->frame(state.time + dt) - clamp->frame(state.time - dt)) / (2.0 * dt);
+    w0 = 0.5 * Vee(dq * clamp->frame(state.time).transpose());
+  }
   motion.director_velocities.resize(kin.samples.size());
   for (size_t k = 0; k < kin.samples.size(); ++k) {
+    motion.velocities[k] += v0 + w0.cross(kin.samples[k].y);
     Mat3& dv = motion.director_velocities[k];
     dv.setZero();
-    for (int d = 0; d < 2; ++d) dv.col(d) = angular[k].cross(motion.directors[k].col(d));
+    for (int d = 0; d < 2; ++d) dv.col(d) = (angular[k] + w0).cross(motion.directors[k].col(d));
   }
   return motion;
 }
@@ -202,7 +213,8 @@ class IncrementalPotential {
                        const GaussRule& rule, const StrandState& start,
                        const StrandDynamics::SampleMotion& now, const StrandState* previous,
                        const StrandDynamics::SampleMotion* before, double h)
-      : model_(model), options_(options), rule_(rule), energy_(model) {
+      : model_(model), options_(options), rule_(rule), energy_(model),
+        root_(model.root_position) {
     const bool bdf2 = previous != nullptr;
     a_ = bdf2 ? 4.0 * h * h / 9.0 : h * h;
     c_ = bdf2 ? 1.5 / h : 1.0 / h;
@@ -248,8 +260,8 @@ class IncrementalPotential {
     for (size_t k = 0; k < count; ++k) {
       const dynamics::Sample& s = kin_.samples[k];
       const double mass = line_density * s.weight;
-      const Vec3 miss = s.y - predicted_positions_[k];
-      const Vec3 moved = s.y - anchor_positions_[k];
+      const Vec3 miss = root_ + s.y - predicted_positions_[k];  // world positions
+      const Vec3 moved = root_ + s.y - anchor_positions_[k];
       const double drag = c_ * options_.air_drag * s.weight;
       inertia += 0.5 * mass * inv_a * miss.squaredNorm() + 0.5 * drag * moved.squaredNorm();
       forces_[k] = (mass * inv_a) * miss + drag * moved;
@@ -301,6 +313,7 @@ class IncrementalPotential {
   const GaussRule& rule_;
   double a_ = 0.0, c_ = 0.0;
   StrandEnergy energy_;
+  Vec3 root_;  // r(0) at the end of the step (m, world)
   std::vector<Vec3> anchor_positions_, predicted_positions_;
   std::vector<Mat3> predicted_directors_;
   VecX anchor_curvatures_;
@@ -317,7 +330,20 @@ StrandDynamics::StrandDynamics(const StrandModel& model, const DynamicsOptions& 
     : model_(model), options_(options), state_(initial) {
   CheckInputs(model_, options_, state_.curvatures, &state_.rates);
   if (!std::isfinite(state_.time)) throw std::invalid_argument("state time must be finite (s)");
-  motion_ = MotionFromRates(model_, state_, GaussLegendre01(options_.mass_points));
+  motion_ = MotionFromRates(model_, state_, GaussLegendre01(options_.mass_points), nullptr);
+}
+
+void StrandDynamics::SetClampMotion(ClampMotion clamp) {
+  if (has_history_) throw std::logic_error("SetClampMotion: only before the first step");
+  if (!clamp.position || !clamp.frame) {
+    throw std::invalid_argument("clamp motion needs both a position and a frame function");
+  }
+  clamp_ = std::move(clamp);
+  model_.root_position = clamp_.position(state_.time);
+  model_.root_frame = clamp_.frame(state_.time);
+  std::string why;
+  if (!IsValid(model_, &why)) throw std::invalid_argument("clamp motion at t = 0: " + why);
+  motion_ = MotionFromRates(model_, state_, GaussLegendre01(options_.mass_points), &clamp_);
 }
 
 double StrandDynamics::Kinetic() const {
@@ -356,7 +382,17 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
   // BDF2 needs the previous state one step of the same length back; otherwise (the first step,
   // after a halving) backward Euler starts it again.
   const bool bdf2 = options_.integrator == Integrator::kBdf2 && has_history_ && previous_h_ == h;
-  IncrementalPotential phi(model_, options_, rule, state_, motion_, bdf2 ? &previous_ : nullptr,
+  // The model at the end of the step: the clamp where its motion puts it then.
+  StrandModel stepped = model_;
+  if (clamp_.position) {
+    stepped.root_position = clamp_.position(state_.time + h);
+    stepped.root_frame = clamp_.frame(state_.time + h);
+    if (!stepped.root_position.allFinite() || !stepped.root_frame.allFinite()) {
+      *why = "the clamp motion gave a non-finite position or frame";
+      return false;
+    }
+  }
+  IncrementalPotential phi(stepped, options_, rule, state_, motion_, bdf2 ? &previous_ : nullptr,
                            bdf2 ? &previous_motion_ : nullptr, h);
   const int n = model_.NumSegments();
   VecX q = state_.curvatures + h * state_.rates;  // the explicit predictor
@@ -399,7 +435,7 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
     const double slope = gradient.dot(step);  // < 0
     if (change <= options_.tolerance) {
       q += step;
-      Accept(q, h, bdf2);
+      Accept(stepped, q, h, bdf2);
       return true;
     }
     // Backtracking line search on Phi (Armijo, c = 1e-4).
@@ -430,7 +466,7 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
     value = trial_value;
     gradient = trial_gradient;
     if (alpha * change <= options_.tolerance) {
-      Accept(q, h, bdf2);
+      Accept(stepped, q, h, bdf2);
       return true;
     }
   }
@@ -440,7 +476,7 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
   return false;
 }
 
-void StrandDynamics::Accept(const VecX& q, double h, bool bdf2) {
+void StrandDynamics::Accept(const StrandModel& stepped, const VecX& q, double h, bool bdf2) {
   // Rates: backward Euler (q1 - q0) / h; BDF2 (3 q1 - 4 q0 + q_(-1)) / (2h). The samples'
   // velocities by the same formulas on their positions and directors: the scheme's velocities,
   // which the next step predicts from (J qdot would differ by O(h) and, over large rotations in
@@ -448,7 +484,7 @@ void StrandDynamics::Accept(const VecX& q, double h, bool bdf2) {
   VecX rates = bdf2 ? VecX((3.0 * q - 4.0 * state_.curvatures + previous_.curvatures) / (2.0 * h))
                     : VecX((q - state_.curvatures) / h);
   SampleMotion next;
-  SamplePlaces(model_, q, GaussLegendre01(options_.mass_points), &next);
+  SamplePlaces(stepped, q, GaussLegendre01(options_.mass_points), &next);
   const size_t count = next.positions.size();
   next.velocities.resize(count);
   next.director_velocities.resize(count);
@@ -471,6 +507,8 @@ void StrandDynamics::Accept(const VecX& q, double h, bool bdf2) {
   state_.curvatures = q;
   state_.rates = std::move(rates);
   state_.time += h;
+  model_.root_position = stepped.root_position;
+  model_.root_frame = stepped.root_frame;
 }
 
 StepReport StrandDynamics::Step() { return Step(options_.time_step); }
@@ -482,6 +520,8 @@ StepReport StrandDynamics::Step(double h) {
   StepReport report;
   const StrandState saved = state_, saved_previous = previous_;
   const SampleMotion saved_motion = motion_, saved_previous_motion = previous_motion_;
+  const Vec3 saved_root = model_.root_position;
+  const Mat3 saved_frame = model_.root_frame;
   const double saved_previous_h = previous_h_;
   const bool saved_history = has_history_;
   std::string why, first_why;
@@ -514,6 +554,8 @@ StepReport StrandDynamics::Step(double h) {
     previous_ = saved_previous;
     motion_ = saved_motion;
     previous_motion_ = saved_previous_motion;
+    model_.root_position = saved_root;
+    model_.root_frame = saved_frame;
     previous_h_ = saved_previous_h;
     has_history_ = saved_history;
     std::ostringstream out;
