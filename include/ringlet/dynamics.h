@@ -90,7 +90,7 @@ struct StepReport {
 StrandHessian ComputeMassMatrix(const StrandModel& model, const VecX& curvatures,
                                 const DynamicsOptions& options = {});
 
-/// Kinetic energy 1/2 qdot^T M(q) qdot (J) of a state, in O(n).
+/// Kinetic energy 1/2 qdot^T M(q) qdot (J) of a state with the root at rest, in O(n).
 double KineticEnergy(const StrandModel& model, const StrandState& state,
                      const DynamicsOptions& options = {});
 
@@ -126,7 +126,8 @@ struct ClampMotion {
 /// Lagrange's equations, Coriolis and centrifugal terms included. Newton on the exact Hessian of E
 /// plus the Gauss-Newton Hessian of the inertia (the mass matrix over h^2), factored in O(n)
 /// (StrandHessianFactor), with a backtracking line search on Phi; then the rates follow from the
-/// scheme (backward Euler: qdot1 = (q1 - q0)/h). Deterministic.
+/// scheme (backward Euler: qdot1 = (q1 - q0)/h). The positions y_s are world positions, so a
+/// moving clamp (SetClampMotion) brings its inertial terms along. Deterministic.
 class StrandDynamics {
  public:
   /// Throws std::invalid_argument on an invalid model, options or state (sizes, non-finite).
@@ -148,17 +149,18 @@ class StrandDynamics {
   const StrandModel& model() const { return model_; }
   const DynamicsOptions& options() const { return options_; }
   /// Kinetic energy of the current state (J), from the scheme's sample velocities (differences of
-  /// sample positions and directors); at the initial state, KineticEnergy(model, state).
+  /// sample positions and directors, world frame: a moving clamp's motion included); at the
+  /// initial state with the root at rest, KineticEnergy(model, state).
   double Kinetic() const;
+  /// Potential energy terms of the current state (J), with the root where the clamp is now.
+  EnergyTerms Potential() const;
 
-  /// The mass samples' motion: positions y_s relative to the root (m), directors (n1, n2, 0) and
-  /// their velocities (m/s, 1/s). Internal to the time step; public for its implementation.
+  /// The mass samples' motion: world positions y_s (m), directors (n1, n2, 0) and their
+  /// velocities (m/s, 1/s). Internal to the time step; public for its implementation.
   struct SampleMotion {
     std::vector<Vec3> positions, velocities;
     std::vector<Mat3> directors, director_velocities;
   };
-  /// Potential energy terms of the current state (J).
-  EnergyTerms Potential() const;
 
  private:
   bool TryStep(double h, int* iterations, std::string* why);
