@@ -1,0 +1,581 @@
+// Strand dynamics: mass matrix, backward Euler as an incremental potential, modal analysis
+// (dynamics.h; docs/dynamics.md).
+#include "ringlet/dynamics.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+#include <stdexcept>
+
+#include "dynamics/kinematics.h"
+#include "ringlet/strand_hessian.h"
+
+namespace ringlet {
+
+using dynamics::ComputeKinematics;
+using dynamics::GaussLegendre01;
+using dynamics::GaussRule;
+using dynamics::Kinematics;
+
+bool DynamicsOptions::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& message) {
+    if (why) *why = message;
+    return false;
+  };
+  if (!(std::isfinite(time_step) && time_step > 0.0)) {
+    return fail("dynamics time_step must be a finite number > 0 (s)");
+  }
+  if (!(std::isfinite(internal_friction) && internal_friction >= 0.0)) {
+    return fail("dynamics internal_friction must be a finite number >= 0 (N m^2 s)");
+  }
+  if (!(std::isfinite(air_drag) && air_drag >= 0.0)) {
+    return fail("dynamics air_drag must be a finite number >= 0 (N s/m^2)");
+  }
+  if (mass_points < 1 || mass_points > 8) return fail("dynamics mass_points must be in 1..8");
+  if (max_newton_iterations < 1) return fail("dynamics max_newton_iterations must be >= 1");
+  if (!(std::isfinite(tolerance) && tolerance > 0.0)) {
+    return fail("dynamics tolerance must be a finite number > 0 (rad)");
+  }
+  if (max_halvings < 0 || max_halvings > 30) return fail("dynamics max_halvings must be in 0..30");
+  if (integrator != Integrator::kBackwardEuler && integrator != Integrator::kBdf2) {
+    return fail("dynamics integrator must be backward_euler or bdf2");
+  }
+  return true;
+}
+
+namespace {
+
+void CheckInputs(const StrandModel& model, const DynamicsOptions& options, const VecX& curvatures,
+                 const VecX* rates) {
+  std::string why;
+  if (!IsValid(model, &why)) throw std::invalid_argument(why);
+  if (!options.IsValid(&why)) throw std::invalid_argument(why);
+  const Eigen::Index size = 3 * model.NumSegments();
+  if (curvatures.size() != size || !curvatures.allFinite()) {
+    throw std::invalid_argument("curvatures must be " + std::to_string(size) +
+                                " finite numbers (3 per segment)");
+  }
+  if (rates && (rates->size() != size || !rates->allFinite())) {
+    throw std::invalid_argument("rates must be " + std::to_string(size) +
+                                " finite numbers (3 per segment)");
+  }
+}
+
+// Sum of two block-semiseparable matrices: `metric` (full twists) plus the Hessian of E (whose
+// loads have zero bottom rows when its twists do, strand_hessian.h) plus diag(extra_i I).
+void AddHessian(const StrandHessian& hessian, const std::vector<double>& extra,
+                StrandHessian* metric) {
+  for (size_t i = 0; i < metric->diagonal.size(); ++i) {
+    metric->diagonal[i] += hessian.diagonal[i];
+    metric->diagonal[i].diagonal().array() += extra[i];
+    metric->load[i] += hessian.load[i];
+  }
+}
+
+}  // namespace
+
+StrandHessian ComputeMassMatrix(const StrandModel& model, const VecX& curvatures,
+                                const DynamicsOptions& options) {
+  CheckInputs(model, options, curvatures, nullptr);
+  Kinematics kin;
+  ComputeKinematics(model, curvatures, GaussLegendre01(options.mass_points), &kin);
+  StrandHessian mass;
+  dynamics::AssembleMetric(model, options, kin, 1.0, 0.0, &mass);
+  return mass;
+}
+
+double KineticEnergy(const StrandModel& model, const StrandState& state,
+                     const DynamicsOptions& options) {
+  CheckInputs(model, options, state.curvatures, &state.rates);
+  Kinematics kin;
+  ComputeKinematics(model, state.curvatures, GaussLegendre01(options.mass_points), &kin);
+  std::vector<Vec3> angular, linear;
+  dynamics::SampleVelocities(kin, state.rates, &angular, &linear);
+  const double line_density = model.material.density * model.section.Area();
+  double kinetic = 0.0;
+  for (size_t k = 0; k < kin.samples.size(); ++k) {
+    const dynamics::Sample& s = kin.samples[k];
+    const Mat3 theta = dynamics::SectionInertia(model, s, options.rotational_inertia);
+    kinetic += 0.5 * (line_density * s.weight * linear[k].squaredNorm() +
+                      angular[k].dot(theta * angular[k]));
+  }
+  return kinetic;
+}
+
+Modes ComputeModes(const StrandModel& model, const VecX& curvatures, int count,
+                   const DynamicsOptions& options) {
+  CheckInputs(model, options, curvatures, nullptr);
+  const int n = model.NumSegments();
+  if (n > kMaxModalSegments) {
+    throw std::invalid_argument("modal analysis is dense: at most " +
+                                std::to_string(kMaxModalSegments) + " segments, not " +
+                                std::to_string(n));
+  }
+  StrandHessian hessian;
+  ComputeStrandHessian(model, curvatures, &hessian);
+  MatX h = hessian.Dense();
+  h = (0.5 * (h + h.transpose())).eval();
+  MatX m = ComputeMassMatrix(model, curvatures, options).Dense();
+  m = (0.5 * (m + m.transpose())).eval();
+  // Solved as M v = mu (H + sigma M) v, mu = 1 / (omega^2 + sigma): the wanted low modes are
+  // then the largest mu, accurate relative to themselves. Directly (H v = omega^2 M v) their
+  // rounding would be relative to the largest omega^2, the twist waves of the section (omega^2 ~
+  // (n pi / L)^2 mu / rho ~ 1e12 / s^2 at 40 segments of 10 cm), 1e-4 / s^2 and more. sigma = 0
+  // when H is positive definite; otherwise twice the most negative omega^2 of the direct
+  // problem plus 1e-6 of its largest, which makes H + sigma M positive definite.
+  double sigma = 0.0;
+  if (Eigen::LLT<MatX>(h).info() != Eigen::Success) {
+    Eigen::GeneralizedSelfAdjointEigenSolver<MatX> direct(h, m, Eigen::EigenvaluesOnly);
+    if (direct.info() != Eigen::Success) {
+      throw std::runtime_error("modal analysis: the generalized eigensolver failed");
+    }
+    const VecX& values = direct.eigenvalues();
+    sigma = 2.0 * std::max(0.0, -values(0)) + 1e-6 * std::abs(values(values.size() - 1));
+  }
+  const MatX shifted = h + sigma * m;
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatX> solver(m, shifted);
+  if (solver.info() != Eigen::Success) {
+    throw std::runtime_error("modal analysis: the generalized eigensolver failed");
+  }
+  const int size = 3 * n;
+  const int k = count <= 0 ? size : std::min(count, size);
+  Modes modes;
+  modes.omega_squared.resize(k);
+  modes.shapes.resize(size, k);
+  for (int j = 0; j < k; ++j) {
+    // Largest mu first; v^T (H + sigma M) v = 1 gives v^T M v = mu.
+    const int index = size - 1 - j;
+    const double mu = solver.eigenvalues()(index);
+    modes.omega_squared(j) = 1.0 / mu - sigma;
+    modes.shapes.col(j) = solver.eigenvectors().col(index) / std::sqrt(mu);
+  }
+  return modes;
+}
+
+// World positions and directors (n1, n2; third column zero) of the mass samples at a
+// configuration, with the root where the model puts it.
+void SamplePlaces(const StrandModel& model, const VecX& curvatures, const GaussRule& rule,
+                  StrandDynamics::SampleMotion* motion) {
+  Kinematics kin;
+  ComputeKinematics(model, curvatures, rule, &kin);
+  motion->positions.resize(kin.samples.size());
+  motion->directors.resize(kin.samples.size());
+  for (size_t k = 0; k < kin.samples.size(); ++k) {
+    motion->positions[k] = model.root_position + kin.samples[k].y;  // world
+    motion->directors[k] = kin.samples[k].frame;
+    motion->directors[k].col(2).setZero();
+  }
+}
+
+// The motion of a state from its rates: velocities J qdot, director velocities omega x n, plus
+// the clamp's rigid motion when it moves (velocity v0 and angular velocity w0 by central
+// differences of its functions: y' += v0 + w0 x (y - r(0)), n' += w0 x n).
+StrandDynamics::SampleMotion MotionFromRates(const StrandModel& model, const StrandState& state,
+                                             const GaussRule& rule, const ClampMotion* clamp) {
+  Kinematics kin;
+  ComputeKinematics(model, state.curvatures, rule, &kin);
+  std::vector<Vec3> angular;
+  StrandDynamics::SampleMotion motion;
+  dynamics::SampleVelocities(kin, state.rates, &angular, &motion.velocities);
+  SamplePlaces(model, state.curvatures, rule, &motion);
+  Vec3 v0 = Vec3::Zero(), w0 = Vec3::Zero();
+  if (clamp) {
+    const double dt = 1e-6;
+    v0 = (clamp->position(state.time + dt) - clamp->position(state.time - dt)) / (2.0 * dt);
+    const Mat3 dq = (clamp->frame(state.time + dt) - clamp->frame(state.time - dt)) / (2.0 * dt);
+    w0 = 0.5 * Vee(dq * clamp->frame(state.time).transpose());
+  }
+  motion.director_velocities.resize(kin.samples.size());
+  for (size_t k = 0; k < kin.samples.size(); ++k) {
+    motion.velocities[k] += v0 + w0.cross(kin.samples[k].y);
+    Mat3& dv = motion.director_velocities[k];
+    dv.setZero();
+    for (int d = 0; d < 2; ++d) dv.col(d) = (angular[k] + w0).cross(motion.directors[k].col(d));
+  }
+  return motion;
+}
+
+// The incremental potential of one implicit step (dynamics.h, docs/dynamics.md "Time step"): its
+// value, gradient and Newton matrix at a configuration. Both schemes have the form
+//   Phi(q) = sum_s [ m_s/(2a) |y_s - y~_s|^2 + c nu w_s/2 |y_s - y^_s|^2 ] + E(q)
+//            + c gamma/2 sum_i l_i |Omega_i - Omega^_i|^2  (+ the section's rotational inertia),
+// backward Euler: a = h^2, c = 1/h, y^ = y_n, y~ = y_n + h v_n;
+// BDF2: a = 4h^2/9, c = 3/(2h), y^ = (4 y_n - y_(n-1))/3, y~ = y^ + (2h/3)(4 v_n - v_(n-1))/3,
+// so that stationarity is M a_(n+1) = F(q_(n+1)) - dissipation(v_(n+1)) with each scheme's
+// acceleration and velocity (Hairer & Wanner, Solving ODEs II, section V.1: BDF2 is
+// x_(n+1) - 4/3 x_n + 1/3 x_(n-1) = 2h/3 x'_(n+1)).
+class IncrementalPotential {
+ public:
+  IncrementalPotential(const StrandModel& model, const DynamicsOptions& options,
+                       const GaussRule& rule, const StrandState& start,
+                       const StrandDynamics::SampleMotion& now, const StrandState* previous,
+                       const StrandDynamics::SampleMotion* before, double h)
+      : model_(model), options_(options), rule_(rule), energy_(model),
+        root_(model.root_position) {
+    const bool bdf2 = previous != nullptr;
+    a_ = bdf2 ? 4.0 * h * h / 9.0 : h * h;
+    c_ = bdf2 ? 1.5 / h : 1.0 / h;
+    const size_t count = now.positions.size();
+    anchor_positions_.resize(count);
+    predicted_positions_.resize(count);
+    predicted_directors_.resize(count);
+    for (size_t k = 0; k < count; ++k) {
+      if (!bdf2) {
+        anchor_positions_[k] = now.positions[k];
+        predicted_positions_[k] = now.positions[k] + h * now.velocities[k];
+        predicted_directors_[k] = now.directors[k] + h * now.director_velocities[k];
+        continue;
+      }
+      anchor_positions_[k] = (4.0 * now.positions[k] - before->positions[k]) / 3.0;
+      predicted_positions_[k] =
+          anchor_positions_[k] +
+          (2.0 * h / 3.0) * (4.0 * now.velocities[k] - before->velocities[k]) / 3.0;
+      predicted_directors_[k] =
+          (4.0 * now.directors[k] - before->directors[k]) / 3.0 +
+          (2.0 * h / 3.0) * (4.0 * now.director_velocities[k] - before->director_velocities[k]) / 3.0;
+    }
+    anchor_curvatures_ = bdf2 ? VecX((4.0 * start.curvatures - previous->curvatures) / 3.0)
+                              : start.curvatures;
+    extra_.resize(static_cast<size_t>(model.NumSegments()));
+    for (int i = 0; i < model.NumSegments(); ++i) {
+      extra_[static_cast<size_t>(i)] =
+          c_ * options.internal_friction * model.segment_lengths[static_cast<size_t>(i)];
+    }
+  }
+
+  // Phi(q) and, when gradient is not null, dPhi/dq; kinematics at q are kept for the Newton
+  // matrix.
+  double Evaluate(const VecX& q, VecX* gradient) {
+    ComputeKinematics(model_, q, rule_, &kin_);
+    const double line_density = model_.material.density * model_.section.Area();
+    const double inv_a = 1.0 / a_;
+    const size_t count = kin_.samples.size();
+    forces_.resize(count);
+    adjoints_.resize(count);
+    double inertia = 0.0;
+    const double i1 = model_.section.I1(), i2 = model_.section.I2();
+    for (size_t k = 0; k < count; ++k) {
+      const dynamics::Sample& s = kin_.samples[k];
+      const double mass = line_density * s.weight;
+      const Vec3 miss = root_ + s.y - predicted_positions_[k];  // world positions
+      const Vec3 moved = root_ + s.y - anchor_positions_[k];
+      const double drag = c_ * options_.air_drag * s.weight;
+      inertia += 0.5 * mass * inv_a * miss.squaredNorm() + 0.5 * drag * moved.squaredNorm();
+      forces_[k] = (mass * inv_a) * miss + drag * moved;
+      adjoints_[k].setZero();
+      if (options_.rotational_inertia) {
+        // 1/2 rho w (I2 |n1 - n1~|^2 + I1 |n2 - n2~|^2) / a: the kinetic energy
+        // 1/2 rho (I2 |dn1/dt|^2 + I1 |dn2/dt|^2) of the section (docs/dynamics.md).
+        const double c[2] = {model_.material.density * s.weight * i2 * inv_a,
+                             model_.material.density * s.weight * i1 * inv_a};
+        for (int d = 0; d < 2; ++d) {
+          const Vec3 miss_d = s.frame.col(d) - predicted_directors_[k].col(d);
+          inertia += 0.5 * c[d] * miss_d.squaredNorm();
+          adjoints_[k].col(d) = c[d] * miss_d;
+        }
+      }
+    }
+    double dissipation = 0.0;
+    for (int i = 0; i < model_.NumSegments(); ++i) {
+      const Vec3 change = q.segment<3>(3 * i) - anchor_curvatures_.segment<3>(3 * i);
+      dissipation += 0.5 * extra_[static_cast<size_t>(i)] * change.squaredNorm();
+    }
+    const double potential = energy_.Evaluate(q, gradient ? &energy_gradient_ : nullptr);
+    if (gradient) {
+      dynamics::ApplyJacobianTranspose(model_, q, kin_, forces_, adjoints_, gradient);
+      *gradient += energy_gradient_;
+      for (int i = 0; i < model_.NumSegments(); ++i) {
+        gradient->segment<3>(3 * i) +=
+            extra_[static_cast<size_t>(i)] *
+            (q.segment<3>(3 * i) - anchor_curvatures_.segment<3>(3 * i));
+      }
+    }
+    return inertia + dissipation + potential;
+  }
+
+  // The Newton matrix at the q of the last Evaluate (its forces): M/a + c nu-drag (Gauss-Newton)
+  // + the curvature of those forces + the exact Hessian of E + c gamma l_i.
+  void NewtonMatrix(const VecX& q, StrandHessian* matrix) {
+    dynamics::AssembleMetric(model_, options_, kin_, 1.0 / a_, c_, matrix);
+    ComputeStrandHessian(model_, q, &hessian_);
+    AddHessian(hessian_, extra_, matrix);
+    // The curvature of the inertial and drag forces (the rest of the inertia's exact Hessian;
+    // the section's rotational part, of order rho I / (rho S L^2) ~ 1e-7, is left out).
+    dynamics::AddForceCurvature(model_, q, kin_, forces_, matrix);
+  }
+
+ private:
+  const StrandModel& model_;
+  const DynamicsOptions& options_;
+  const GaussRule& rule_;
+  double a_ = 0.0, c_ = 0.0;
+  StrandEnergy energy_;
+  Vec3 root_;  // r(0) at the end of the step (m, world)
+  std::vector<Vec3> anchor_positions_, predicted_positions_;
+  std::vector<Mat3> predicted_directors_;
+  VecX anchor_curvatures_;
+  std::vector<double> extra_;
+  Kinematics kin_;
+  std::vector<Vec3> forces_;
+  std::vector<Mat3> adjoints_;
+  VecX energy_gradient_;
+  StrandHessian hessian_;
+};
+
+StrandDynamics::StrandDynamics(const StrandModel& model, const DynamicsOptions& options,
+                               const StrandState& initial)
+    : model_(model), options_(options), state_(initial) {
+  CheckInputs(model_, options_, state_.curvatures, &state_.rates);
+  if (!std::isfinite(state_.time)) throw std::invalid_argument("state time must be finite (s)");
+  motion_ = MotionFromRates(model_, state_, GaussLegendre01(options_.mass_points), nullptr);
+}
+
+void StrandDynamics::SetClampMotion(ClampMotion clamp) {
+  if (has_history_) throw std::logic_error("SetClampMotion: only before the first step");
+  if (!clamp.position || !clamp.frame) {
+    throw std::invalid_argument("clamp motion needs both a position and a frame function");
+  }
+  clamp_ = std::move(clamp);
+  model_.root_position = clamp_.position(state_.time);
+  model_.root_frame = clamp_.frame(state_.time);
+  std::string why;
+  if (!IsValid(model_, &why)) throw std::invalid_argument("clamp motion at t = 0: " + why);
+  motion_ = MotionFromRates(model_, state_, GaussLegendre01(options_.mass_points), &clamp_);
+}
+
+double StrandDynamics::Kinetic() const {
+  // 1/2 sum_s (m_s |v_s|^2 + rho w_s (I2 |dn1/dt|^2 + I1 |dn2/dt|^2)): with v = J qdot and
+  // dn/dt = omega x n this is KineticEnergy's 1/2 qdot^T M qdot.
+  const GaussRule rule = GaussLegendre01(options_.mass_points);
+  const double line_density = model_.material.density * model_.section.Area();
+  const double i1 = model_.section.I1(), i2 = model_.section.I2();
+  double kinetic = 0.0;
+  const int n = model_.NumSegments();
+  for (int i = 0; i < n; ++i) {
+    const double l = model_.segment_lengths[static_cast<size_t>(i)];
+    for (size_t j = 0; j < rule.nodes.size(); ++j) {
+      const size_t k = static_cast<size_t>(i) * rule.nodes.size() + j;
+      const double w = rule.weights[j] * l;
+      kinetic += 0.5 * line_density * w * motion_.velocities[k].squaredNorm();
+      if (options_.rotational_inertia) {
+        kinetic += 0.5 * model_.material.density * w *
+                   (i2 * motion_.director_velocities[k].col(0).squaredNorm() +
+                    i1 * motion_.director_velocities[k].col(1).squaredNorm());
+      }
+    }
+  }
+  return kinetic;
+}
+
+EnergyTerms StrandDynamics::Potential() const {
+  StrandEnergy energy(model_);
+  EnergyTerms terms;
+  energy.Evaluate(state_.curvatures, nullptr, &terms);
+  return terms;
+}
+
+bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
+  const GaussRule rule = GaussLegendre01(options_.mass_points);
+  // BDF2 needs the previous state one step of the same length back; otherwise (the first step,
+  // after a halving) backward Euler starts it again.
+  const bool bdf2 = options_.integrator == Integrator::kBdf2 && has_history_ && previous_h_ == h;
+  // The model at the end of the step: the clamp where its motion puts it then.
+  StrandModel stepped = model_;
+  if (clamp_.position) {
+    stepped.root_position = clamp_.position(state_.time + h);
+    stepped.root_frame = clamp_.frame(state_.time + h);
+    if (!stepped.root_position.allFinite() || !stepped.root_frame.allFinite()) {
+      *why = "the clamp motion gave a non-finite position or frame";
+      return false;
+    }
+  }
+  IncrementalPotential phi(stepped, options_, rule, state_, motion_, bdf2 ? &previous_ : nullptr,
+                           bdf2 ? &previous_motion_ : nullptr, h);
+  const int n = model_.NumSegments();
+  VecX q = state_.curvatures + h * state_.rates;  // the explicit predictor
+  VecX gradient, step, trial;
+  StrandHessian matrix;
+  StrandHessianFactor factor;
+  double value = phi.Evaluate(q, &gradient);
+  if (!std::isfinite(value) || !gradient.allFinite()) {
+    // The predictor went somewhere unreasonable: start from where the step starts.
+    q = state_.curvatures;
+    value = phi.Evaluate(q, &gradient);
+  }
+  for (int iteration = 0; iteration < options_.max_newton_iterations; ++iteration) {
+    ++*iterations;
+    if (!std::isfinite(value) || !gradient.allFinite()) {
+      *why = "non-finite energy or gradient";
+      return false;
+    }
+    phi.NewtonMatrix(q, &matrix);
+    // Positive definite unless the potential's Hessian is too negative for the inertia: then a
+    // growing multiple of the identity (Levenberg) until the factorization succeeds.
+    double mean_diagonal = 0.0;
+    for (const Mat3& d : matrix.diagonal) mean_diagonal += d.trace();
+    mean_diagonal /= 3.0 * n;
+    double shift = 0.0;
+    bool factored = factor.Factor(matrix, 0.0);
+    for (int tries = 0; !factored && tries < 20; ++tries) {
+      shift = (shift == 0.0 ? 1e-8 : 10.0 * shift);
+      factored = factor.Factor(matrix, -shift * std::abs(mean_diagonal));
+    }
+    if (!factored) {
+      *why = "the Newton matrix could not be made positive definite";
+      return false;
+    }
+    factor.Solve(-gradient, &step);
+    double change = 0.0;
+    for (int i = 0; i < n; ++i) {
+      change += model_.segment_lengths[static_cast<size_t>(i)] * step.segment<3>(3 * i).norm();
+    }
+    const double slope = gradient.dot(step);  // < 0
+    if (change <= options_.tolerance) {
+      q += step;
+      Accept(stepped, q, h, bdf2);
+      return true;
+    }
+    // Backtracking line search on Phi (Armijo, c = 1e-4).
+    double alpha = 1.0;
+    bool accepted = false;
+    double trial_value = value;
+    VecX trial_gradient;
+    for (int k = 0; k < 40; ++k) {
+      trial = q + alpha * step;
+      trial_value = phi.Evaluate(trial, &trial_gradient);
+      if (std::isfinite(trial_value) && trial_gradient.allFinite() &&
+          trial_value <= value + 1e-4 * alpha * slope) {
+        accepted = true;
+        break;
+      }
+      // A decrease below the rounding of Phi: the full step is as good as converged.
+      if (std::isfinite(trial_value) && -slope <= 1e-14 * std::abs(value)) {
+        accepted = true;
+        break;
+      }
+      alpha *= 0.5;
+    }
+    if (!accepted) {
+      *why = "the line search found no decrease";
+      return false;
+    }
+    q = trial;
+    value = trial_value;
+    gradient = trial_gradient;
+    if (alpha * change <= options_.tolerance) {
+      Accept(stepped, q, h, bdf2);
+      return true;
+    }
+  }
+  std::ostringstream out;
+  out << "Newton did not converge in " << options_.max_newton_iterations << " iterations";
+  *why = out.str();
+  return false;
+}
+
+void StrandDynamics::Accept(const StrandModel& stepped, const VecX& q, double h, bool bdf2) {
+  // Rates: backward Euler (q1 - q0) / h; BDF2 (3 q1 - 4 q0 + q_(-1)) / (2h). The samples'
+  // velocities by the same formulas on their positions and directors: the scheme's velocities,
+  // which the next step predicts from (J qdot would differ by O(h) and, over large rotations in
+  // one step, feed energy in; docs/dynamics.md).
+  VecX rates = bdf2 ? VecX((3.0 * q - 4.0 * state_.curvatures + previous_.curvatures) / (2.0 * h))
+                    : VecX((q - state_.curvatures) / h);
+  SampleMotion next;
+  SamplePlaces(stepped, q, GaussLegendre01(options_.mass_points), &next);
+  const size_t count = next.positions.size();
+  next.velocities.resize(count);
+  next.director_velocities.resize(count);
+  for (size_t k = 0; k < count; ++k) {
+    if (bdf2) {
+      next.velocities[k] = (3.0 * next.positions[k] - 4.0 * motion_.positions[k] +
+                            previous_motion_.positions[k]) / (2.0 * h);
+      next.director_velocities[k] = (3.0 * next.directors[k] - 4.0 * motion_.directors[k] +
+                                     previous_motion_.directors[k]) / (2.0 * h);
+    } else {
+      next.velocities[k] = (next.positions[k] - motion_.positions[k]) / h;
+      next.director_velocities[k] = (next.directors[k] - motion_.directors[k]) / h;
+    }
+  }
+  previous_ = state_;
+  previous_motion_ = std::move(motion_);
+  motion_ = std::move(next);
+  previous_h_ = h;
+  has_history_ = true;
+  state_.curvatures = q;
+  state_.rates = std::move(rates);
+  state_.time += h;
+  model_.root_position = stepped.root_position;
+  model_.root_frame = stepped.root_frame;
+}
+
+StepReport StrandDynamics::Step() { return Step(options_.time_step); }
+
+StepReport StrandDynamics::Step(double h) {
+  if (!(std::isfinite(h) && h > 0.0)) {
+    throw std::invalid_argument("time step must be a finite number > 0 (s)");
+  }
+  StepReport report;
+  const StrandState saved = state_, saved_previous = previous_;
+  const SampleMotion saved_motion = motion_, saved_previous_motion = previous_motion_;
+  const Vec3 saved_root = model_.root_position;
+  const Mat3 saved_frame = model_.root_frame;
+  const double saved_previous_h = previous_h_;
+  const bool saved_history = has_history_;
+  std::string why, first_why;
+  // Depth-first halving: a sub-step of h / 2^depth that fails is replaced by two of half its
+  // length, down to max_halvings.
+  struct Pending {
+    double h;
+    int depth;
+  };
+  std::vector<Pending> stack = {{h, 0}};
+  bool ok = true;
+  while (!stack.empty()) {
+    const Pending p = stack.back();
+    stack.pop_back();
+    if (TryStep(p.h, &report.newton_iterations, &why)) {
+      ++report.substeps;
+      report.halvings = std::max(report.halvings, p.depth);
+      continue;
+    }
+    if (first_why.empty()) first_why = why;
+    if (p.depth >= options_.max_halvings) {
+      ok = false;
+      break;
+    }
+    stack.push_back({0.5 * p.h, p.depth + 1});
+    stack.push_back({0.5 * p.h, p.depth + 1});
+  }
+  if (!ok) {
+    state_ = saved;
+    previous_ = saved_previous;
+    motion_ = saved_motion;
+    previous_motion_ = saved_previous_motion;
+    model_.root_position = saved_root;
+    model_.root_frame = saved_frame;
+    previous_h_ = saved_previous_h;
+    has_history_ = saved_history;
+    std::ostringstream out;
+    out << "step of " << h << " s at t = " << saved.time << " s failed after "
+        << options_.max_halvings << " halvings: " << why;
+    report.message = out.str();
+    report.converged = false;
+  } else {
+    report.converged = true;
+    if (report.halvings > 0) {
+      std::ostringstream out;
+      out << "step of " << h << " s at t = " << saved.time << " s halved " << report.halvings
+          << " time(s) (" << report.substeps << " sub-steps): " << first_why;
+      report.message = out.str();
+    }
+  }
+  report.time = state_.time;
+  report.potential = Potential();
+  report.kinetic = Kinetic();
+  return report;
+}
+
+}  // namespace ringlet

@@ -1,0 +1,289 @@
+// Kinematics of a strand for its dynamics (kinematics.h; docs/dynamics.md, "Mass matrix").
+#include "dynamics/kinematics.h"
+
+#include <cassert>
+#include <cmath>
+
+namespace ringlet::dynamics {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Left Jacobian of the rotation exp(u W) in the segment's start frame: dR R^T = [A dOmega]x with
+// A = u I + u^2 G2 W + u^3 G3 W^2 (strand_hessian.cpp, "the rotation's left Jacobian").
+Mat3 RotationJacobian(const Vec3& omega, double u, const HelixFunctions& g) {
+  const Mat3 w = Hat(omega);
+  Mat3 w2 = omega * omega.transpose();
+  w2.diagonal().array() -= omega.squaredNorm();
+  return u * Mat3::Identity() + (u * u * g.g[2]) * w + (u * u * u * g.g[3]) * w2;
+}
+
+// dh/dOmega of the chord h(u) (3x3), row k from HelixChordVjp with dE/dh = e_k (helix.h).
+Mat3 ChordJacobian(const Vec3& omega, double u, const HelixFunctions& g) {
+  Mat3 d;
+  for (int k = 0; k < 3; ++k) {
+    d.row(k) = HelixChordVjp(omega, u, g, Vec3::Unit(k)).transpose();
+  }
+  return d;
+}
+
+}  // namespace
+
+GaussRule GaussLegendre01(int points) {
+  assert(points >= 1 && points <= 8);
+  GaussRule rule;
+  rule.nodes.resize(static_cast<size_t>(points));
+  rule.weights.resize(static_cast<size_t>(points));
+  // Newton's method on the Legendre polynomial P_n from Tricomi's initial guess, with P_n and
+  // P_n' from the three-term recurrence (Abramowitz & Stegun 22.7.10, 22.8.5); weights
+  // 2 / ((1 - x^2) P_n'(x)^2) (A&S 25.4.29). Mapped from [-1, 1] to [0, 1].
+  const int n = points;
+  for (int i = 0; i < n; ++i) {
+    double x = std::cos(kPi * (i + 0.75) / (n + 0.5));
+    double derivative = 1.0;
+    for (int iteration = 0; iteration < 100; ++iteration) {
+      double p0 = 1.0, p1 = x;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      derivative = n * (x * p1 - p0) / (x * x - 1.0);
+      const double dx = p1 / derivative;
+      x -= dx;
+      if (std::abs(dx) < 1e-16) break;
+    }
+    // Recompute the derivative at the final node.
+    double p0 = 1.0, p1 = x;
+    for (int k = 2; k <= n; ++k) {
+      const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+      p0 = p1;
+      p1 = p2;
+    }
+    derivative = n * (x * p1 - p0) / (x * x - 1.0);
+    // Nodes in ascending order on [0, 1].
+    const size_t j = static_cast<size_t>(n - 1 - i);
+    rule.nodes[j] = 0.5 * (1.0 + x);
+    rule.weights[j] = 1.0 / ((1.0 - x * x) * derivative * derivative);  // half of A&S's
+  }
+  return rule;
+}
+
+void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const GaussRule& rule,
+                       Kinematics* kin) {
+  const int n = model.NumSegments();
+  assert(curvatures.size() == 3 * n);
+  const size_t points = rule.nodes.size();
+  kin->twist.resize(static_cast<size_t>(n));
+  kin->frames.resize(static_cast<size_t>(n));
+  kin->segments.resize(static_cast<size_t>(n));
+  kin->samples.resize(static_cast<size_t>(n) * points);
+  kin->first_sample.resize(static_cast<size_t>(n) + 1);
+  Mat3 q = model.root_frame;
+  Vec3 r = Vec3::Zero();
+  for (int i = 0; i < n; ++i) {
+    const size_t si = static_cast<size_t>(i);
+    const double l = model.segment_lengths[si];
+    const Vec3 omega = curvatures.segment<3>(3 * i);
+    kin->frames[si] = q;
+    const HelixSegment segment = EvaluateHelixSegment(omega, l);
+    kin->segments[si] = segment;
+    // S_i: a change dOmega of segment i turns everything past its end by omega = Q_i A(l) dOmega
+    // and moves its end by Q_i dp; a point y past it moves by omega x (y - r_(i+1)) + Q_i dp =
+    // omega x y + v with v = Q_i dp + r_(i+1) x omega (strand_hessian.cpp, the same twist).
+    const Vec3 r_next = r + q * segment.chord;
+    Mat63 twist;
+    twist.topRows<3>() = q * RotationJacobian(omega, l, segment.functions);
+    twist.bottomRows<3>() =
+        q * ChordJacobian(omega, l, segment.functions) + Hat(r_next) * twist.topRows<3>();
+    kin->twist[si] = twist;
+    kin->first_sample[si] = static_cast<int>(si * points);
+    const double norm = omega.norm();
+    for (size_t j = 0; j < points; ++j) {
+      Sample& s = kin->samples[si * points + j];
+      s.segment = i;
+      s.u = rule.nodes[j] * l;
+      s.weight = rule.weights[j] * l;
+      s.functions = EvaluateHelixFunctions(norm * s.u);
+      const Vec3 h = HelixChordFromFunctions(omega, s.u, s.functions);
+      s.y = r + q * h;
+      // R(u) = I + u G1 W + u^2 G2 W^2 (helix.h, Rodrigues).
+      const Mat3 w = Hat(omega);
+      const Mat3 rotation = Mat3::Identity() + (s.u * s.functions.g[1]) * w +
+                            (s.u * s.u * s.functions.g[2]) * (w * w);
+      s.frame = q * rotation;
+      s.angular = q * RotationJacobian(omega, s.u, s.functions);
+      s.linear = q * ChordJacobian(omega, s.u, s.functions);
+    }
+    r = r_next;
+    q = q * segment.rotation;
+  }
+  kin->first_sample[static_cast<size_t>(n)] = static_cast<int>(static_cast<size_t>(n) * points);
+}
+
+Mat3 SectionInertia(const StrandModel& model, const Sample& sample, bool rotational_inertia) {
+  if (!rotational_inertia) return Mat3::Zero();
+  const double i1 = model.section.I1(), i2 = model.section.I2();
+  const Eigen::DiagonalMatrix<double, 3> local(i1, i2, i1 + i2);
+  return (model.material.density * sample.weight) * (sample.frame * local * sample.frame.transpose());
+}
+
+void AssembleMetric(const StrandModel& model, const DynamicsOptions& options,
+                    const Kinematics& kin, double mass_scale, double drag_scale,
+                    StrandHessian* metric) {
+  const int n = model.NumSegments();
+  metric->diagonal.resize(static_cast<size_t>(n));
+  metric->twist = kin.twist;
+  metric->load.resize(static_cast<size_t>(n));
+  metric->translational = true;
+  const double line_density = model.material.density * model.section.Area();
+  // Reverse sweep: I accumulates the spatial inertia sum_s P_s^T W_s P_s of the samples past the
+  // current segment, P_s = [[I, 0], [-[y_s]x, I]] mapping a twist (omega, v) to the sample's
+  // (angular, linear) velocity (omega, omega x y_s + v).
+  Mat6 inertia = Mat6::Zero();
+  for (int i = n - 1; i >= 0; --i) {
+    const size_t si = static_cast<size_t>(i);
+    const Mat63& twist = kin.twist[si];
+    Mat63 load = inertia * twist;
+    Mat3 diagonal = twist.transpose() * load;
+    Mat6 own = Mat6::Zero();
+    for (int k = kin.first_sample[si]; k < kin.first_sample[si + 1]; ++k) {
+      const Sample& s = kin.samples[static_cast<size_t>(k)];
+      const double a = mass_scale * line_density * s.weight + drag_scale * options.air_drag * s.weight;
+      const Mat3 theta = mass_scale * SectionInertia(model, s, options.rotational_inertia);
+      const Mat3 yx = Hat(s.y);
+      // P^T W P = [[Theta - a [y]x^2, a [y]x], [-a [y]x, a I]].
+      own.topLeftCorner<3, 3>() += theta - a * yx * yx;
+      own.topRightCorner<3, 3>() += a * yx;
+      own.bottomLeftCorner<3, 3>() -= a * yx;
+      own.bottomRightCorner<3, 3>().diagonal().array() += a;
+      // P^T W K with K = [angular; linear]: [Theta K_a + a [y]x K_l; a K_l].
+      load.topRows<3>() += theta * s.angular + a * yx * s.linear;
+      load.bottomRows<3>() += a * s.linear;
+      // K^T W K.
+      diagonal += s.angular.transpose() * theta * s.angular + a * s.linear.transpose() * s.linear;
+    }
+    metric->load[si] = load;
+    metric->diagonal[si] = 0.5 * (diagonal + diagonal.transpose());
+    inertia += own;
+  }
+}
+
+void SampleVelocities(const Kinematics& kin, const VecX& rates, std::vector<Vec3>* angular,
+                      std::vector<Vec3>* linear) {
+  const int n = static_cast<int>(kin.twist.size());
+  angular->resize(kin.samples.size());
+  linear->resize(kin.samples.size());
+  Vec6 upstream = Vec6::Zero();  // sum over segments before i of S_a qdot_a
+  for (int i = 0; i < n; ++i) {
+    const size_t si = static_cast<size_t>(i);
+    const Vec3 rate = rates.segment<3>(3 * i);
+    const Vec3 omega = upstream.head<3>();
+    const Vec3 v = upstream.tail<3>();
+    for (int k = kin.first_sample[si]; k < kin.first_sample[si + 1]; ++k) {
+      const Sample& s = kin.samples[static_cast<size_t>(k)];
+      (*angular)[static_cast<size_t>(k)] = omega + s.angular * rate;
+      (*linear)[static_cast<size_t>(k)] = omega.cross(s.y) + v + s.linear * rate;
+    }
+    upstream += kin.twist[si] * rate;
+  }
+}
+
+void ApplyJacobianTranspose(const StrandModel& model, const VecX& curvatures,
+                            const Kinematics& kin, const std::vector<Vec3>& forces,
+                            const std::vector<Mat3>& frame_adjoints, VecX* gradient) {
+  const int n = model.NumSegments();
+  gradient->resize(3 * n);
+  // Adjoints of the next segment's start (r_bar = dPhi/dr_(i+1), q_bar = dPhi/dQ_(i+1)), as in
+  // the gravity and contact sweep of energy.cpp: r_(i+1) = r_i + Q_i p_i, Q_(i+1) = Q_i R_i, and a
+  // sample y = r_i + Q_i h(u), Q_s = Q_i R(u).
+  Vec3 r_bar = Vec3::Zero();
+  Mat3 q_bar = Mat3::Zero();
+  for (int i = n - 1; i >= 0; --i) {
+    const size_t si = static_cast<size_t>(i);
+    const double l = model.segment_lengths[si];
+    const Vec3 omega = curvatures.segment<3>(3 * i);
+    const Mat3& q = kin.frames[si];
+    const HelixSegment& segment = kin.segments[si];
+    const Mat3 qt = q.transpose();
+    Vec3 g = HelixSegmentVjp(omega, l, segment.functions, qt * q_bar, qt * r_bar, Vec3::Zero());
+    Mat3 q_bar_i = q_bar * segment.rotation.transpose() + r_bar * segment.chord.transpose();
+    for (int k = kin.first_sample[si]; k < kin.first_sample[si + 1]; ++k) {
+      const Sample& s = kin.samples[static_cast<size_t>(k)];
+      const Vec3& f = forces[static_cast<size_t>(k)];
+      const Mat3& adjoint = frame_adjoints[static_cast<size_t>(k)];
+      const Vec3 h = HelixChordFromFunctions(omega, s.u, s.functions);
+      const Mat3 rotation = qt * s.frame;  // R(u)
+      g += HelixSegmentVjp(omega, s.u, s.functions, qt * adjoint, qt * f, Vec3::Zero());
+      q_bar_i += f * h.transpose() + adjoint * rotation.transpose();
+      r_bar += f;
+    }
+    gradient->segment<3>(3 * i) = g;
+    q_bar = q_bar_i;
+  }
+}
+
+void AddForceCurvature(const StrandModel& model, const VecX& curvatures, const Kinematics& kin,
+                       const std::vector<Vec3>& forces, StrandHessian* matrix) {
+  const int n = model.NumSegments();
+  // Reverse sweep. Past segment b (its end and everything downstream): f_sum = sum F_s,
+  // a_f = sum [F_s]x [y_s]x, and the adjoints r_bar, q_bar of the gradient sweep
+  // (ApplyJacobianTranspose), which do not depend on Omega_b.
+  Vec3 f_sum = Vec3::Zero();
+  Mat3 a_f = Mat3::Zero();
+  Vec3 r_bar = Vec3::Zero();
+  Mat3 q_bar = Mat3::Zero();
+  for (int b = n - 1; b >= 0; --b) {
+    const size_t sb = static_cast<size_t>(b);
+    const double l = model.segment_lengths[sb];
+    const Vec3 omega = curvatures.segment<3>(3 * b);
+    const Mat3& q = kin.frames[sb];
+    const Mat3 qt = q.transpose();
+    const Mat63& twist = kin.twist[sb];
+    // B_b (top rows; a point force has no stiffness in the translations): for a < b,
+    // F . d^2 y / dq_a dq_b = omega_a . (dy/dq_b x F), with dy/dq_b = -[y]x S_top + S_bottom past
+    // b and the own Jacobian inside b: B_top = sum [F]x [y]x S_top - [f_sum]x S_bottom
+    // - sum_(s in b) [F_s]x dy_s/dOmega_b.
+    Mat3 load_top = a_f * twist.topRows<3>() - Hat(f_sum) * twist.bottomRows<3>();
+    const int first = kin.first_sample[sb], last = kin.first_sample[sb + 1];
+    for (int k = first; k < last; ++k) {
+      load_top -= Hat(forces[static_cast<size_t>(k)]) * kin.samples[static_cast<size_t>(k)].linear;
+    }
+    matrix->load[sb].topRows<3>() += load_top;
+    // Diagonal: the Jacobian in Omega_b of segment b's step of the reverse sweep, adjoints fixed,
+    // by central differences (a turn of 1e-6 rad per step: truncation ~1e-12, rounding ~1e-10).
+    const Mat3 d_rotation = qt * q_bar;
+    const Vec3 d_chord = qt * r_bar;
+    auto own_gradient = [&](const Vec3& x) {
+      Vec3 g = HelixSegmentVjp(x, l, EvaluateHelixFunctions(l * x.norm()), d_rotation, d_chord,
+                               Vec3::Zero());
+      for (int k = first; k < last; ++k) {
+        const Sample& s = kin.samples[static_cast<size_t>(k)];
+        g += HelixChordVjp(x, s.u, EvaluateHelixFunctions(s.u * x.norm()),
+                           qt * forces[static_cast<size_t>(k)]);
+      }
+      return g;
+    };
+    const double step = 1e-6 / l;
+    Mat3 diagonal;
+    for (int c = 0; c < 3; ++c) {
+      const Vec3 e = step * Vec3::Unit(c);
+      diagonal.col(c) = (own_gradient(omega + e) - own_gradient(omega - e)) / (2.0 * step);
+    }
+    matrix->diagonal[sb] += 0.5 * (diagonal + diagonal.transpose());
+    // Advance the sums and adjoints past segment b's start.
+    const HelixSegment& segment = kin.segments[sb];
+    Mat3 q_bar_b = q_bar * segment.rotation.transpose() + r_bar * segment.chord.transpose();
+    for (int k = first; k < last; ++k) {
+      const Sample& s = kin.samples[static_cast<size_t>(k)];
+      const Vec3& f = forces[static_cast<size_t>(k)];
+      q_bar_b += f * HelixChordFromFunctions(omega, s.u, s.functions).transpose();
+      r_bar += f;
+      f_sum += f;
+      a_f += Hat(f) * Hat(s.y);
+    }
+    q_bar = q_bar_b;
+  }
+}
+
+}  // namespace ringlet::dynamics
