@@ -183,6 +183,12 @@ std::shared_ptr<const BodyFile> BodyFromText(const std::string& text,
                              "Body (unpickling, relative paths from " + base_directory + ")"));
 }
 
+std::shared_ptr<const BodyFile> AdoptBody(const std::string& text,
+                                          const std::string& base_directory,
+                                          std::shared_ptr<const Body> body) {
+  return CachedBody(text, base_directory, [&] { return body; });
+}
+
 std::shared_ptr<const Body> BodyFrom(py::handle body, const std::string& field,
                                      const std::string& base_directory) {
   if (body.is_none()) return nullptr;

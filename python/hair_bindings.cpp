@@ -392,7 +392,30 @@ void BindHair(py::module_& m) {
           "Styling operations in the file's \"operations\" list.")
       .def_property_readonly(
           "eccentricity", [](const HairstyleFile& h) { return HairTypeEccentricity(h.style.hair_type); },
-          "The hair type's fibre eccentricity in [0, 1) (mechanics and optics).");
+          "The hair type's fibre eccentricity in [0, 1) (mechanics and optics).")
+      .def_property_readonly(
+          "body",
+          [](const HairstyleFile& h) -> py::object {
+            if (!h.style.body) return py::none();
+            // The body as built (no rebuild), with the document it came from for pickling:
+            // the body file's text (read now) or the inline object.
+            nlohmann::json document;
+            std::string error;
+            if (!internal::ParseJsonText(h.document_text, &document, &error)) throw Error(error);
+            const nlohmann::json& member = document.at("body");
+            if (member.is_string()) {
+              std::filesystem::path file(member.get<std::string>());
+              if (file.is_relative()) file = std::filesystem::path(h.base_directory) / file;
+              std::string text;
+              if (!ReadFile(file.string(), &text, &error)) throw Error("body: " + error);
+              return py::cast(std::const_pointer_cast<BodyFile>(AdoptBody(
+                  text, AbsoluteDirectory(file.parent_path().string()), h.style.body)));
+            }
+            return py::cast(std::const_pointer_cast<BodyFile>(
+                AdoptBody(member.dump(), h.base_directory, h.style.body)));
+          },
+          "The hairstyle's body as a ringlet.Body (the one it was parsed with, not built "
+          "again; its pickle carries the body file's text as read when asked), or None.");
   m.def(
       "load_hairstyle",
       [](const std::string& path) {

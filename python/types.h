@@ -69,6 +69,12 @@ struct BodyFile {
 std::shared_ptr<const BodyFile> BodyFromText(const std::string& text,
                                              const std::string& base_directory);
 
+/// A ringlet.Body for an already built body (a hairstyle's) and the document it was built from:
+/// the one alive from the same text and directory, else this one (no rebuild).
+std::shared_ptr<const BodyFile> AdoptBody(const std::string& text,
+                                          const std::string& base_directory,
+                                          std::shared_ptr<const Body> body);
+
 /// The body of a ringlet.Body, a body file path, a body dict (relative OBJ paths from
 /// base_directory) or None (null). `field` names the argument in errors ("body").
 std::shared_ptr<const Body> BodyFrom(pybind11::handle body, const std::string& field = "body",

@@ -278,6 +278,9 @@ class Hairstyle:
     def __setstate__(self, arg0: tuple) -> None:
         ...
     @property
+    def body(self) -> Any:
+        """The hairstyle's body as a ringlet.Body (the one it was parsed with, not built again; its pickle carries the body file's text as read when asked), or None."""
+    @property
     def eccentricity(self) -> float:
         """The hair type's fibre eccentricity in [0, 1) (mechanics and optics)."""
     @property

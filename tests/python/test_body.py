@@ -263,3 +263,23 @@ def test_bodies_are_taken_wherever_a_body_is(tmp_path):
     b = ringlet.invert(target, body=ball, segments=3)
     for x, y in zip(a["models"], b["models"]):
         assert np.array_equal(x.rest_curvatures, y.rest_curvatures)
+
+
+def test_a_hairstyles_body(small_style):
+    path, style = small_style
+    hairstyle = ringlet.load_hairstyle(str(path))
+    body = hairstyle.body
+    p = RNG.uniform(-0.3, 0.3, size=(1000, 3))
+    by_file = ringlet.Body(style["body"])  # the same file: the same body, shared while alive
+    assert by_file is body or np.array_equal(by_file.signed_distance(p), body.signed_distance(p))
+    assert body.spheres[0]["name"] == "head" and len(body.spheres) == 9
+    reference = body.signed_distance(p)
+    data = pickle.dumps(body)
+    del body, by_file
+    gc.collect()
+    assert pickle.loads(data).signed_distance(p).tobytes() == reference.tobytes()
+    # An inline body.
+    style["body"] = {"spheres": [{"center": [0, 0, 0], "radius": 0.1}], "blend": 0}
+    inline = ringlet.parse_hairstyle(style).body
+    assert inline.blend == 0 and inline.signed_distance([0, 0, 0.25]) == pytest.approx(0.15)
+    assert ringlet.groom(style).hairstyle.body.document() == style["body"]
