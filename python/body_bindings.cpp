@@ -94,7 +94,8 @@ std::shared_ptr<const BodyFile> BodyFileFrom(py::handle source, const std::strin
       return std::shared_ptr<const Body>(std::move(body));
     });
   }
-  throw Error(field + ": expected a ringlet.Body, a body file path or a body dict "
+  throw Error(field +
+              ": expected a ringlet.Body, a body file path or a body dict "
               "{\"spheres\": [...], \"meshes\": [...]}, got " +
               std::string(py::str(source.get_type().attr("__name__"))));
 }
@@ -112,8 +113,7 @@ py::array_t<double, py::array::c_style> QueryPoints(py::handle points) {
   for (py::ssize_t i = 0; i < a.size(); ++i) {
     if (!std::isfinite(x[i])) {
       throw Error("points: expected finite coordinates (m), got " +
-                  std::string(py::repr(py::float_(x[i]))) + " in point " +
-                  std::to_string(i / 3));
+                  std::string(py::repr(py::float_(x[i]))) + " in point " + std::to_string(i / 3));
     }
   }
   return a;
@@ -264,7 +264,8 @@ void BindBody(py::module_& m) {
               for (const auto& tri : mesh.triangles()) t.insert(t.end(), tri.begin(), tri.end());
               py::dict d;
               d["name"] = mesh.name();
-              d["vertices"] = OwnedArray(std::move(v), {static_cast<py::ssize_t>(mesh.vertices().size()), 3});
+              d["vertices"] =
+                  OwnedArray(std::move(v), {static_cast<py::ssize_t>(mesh.vertices().size()), 3});
               d["triangles"] =
                   OwnedArray(std::move(t), {static_cast<py::ssize_t>(mesh.triangles().size()), 3});
               d["volume"] = mesh.volume();

@@ -528,7 +528,8 @@ void BindHair(py::module_& m) {
         SetMelaninColours(result->hairstyle->render, &result->groom.strands);
         return result;
       },
-      py::arg("hairstyle"), py::arg("threads") = 0, py::arg("base_directory") = ".", py::arg("progress") = py::none(),
+      py::arg("hairstyle"), py::arg("threads") = 0, py::arg("base_directory") = ".",
+      py::arg("progress") = py::none(),
       "Grooms a hairstyle (GroomHairstyle, as `ringlet groom`: the unstyled hair, each strand "
       "coloured by the file's melanins, MelaninDisplayColour): a "
       "Hairstyle, a path or a dict (relative paths from base_directory). threads: 0 = all "

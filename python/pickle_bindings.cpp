@@ -593,7 +593,8 @@ void BindValues(py::module_& m) {
   hairstyle.def(
       "__deepcopy__", [](py::object self, py::dict) { return self; }, py::arg("memo"),
       "The same object (a Hairstyle is immutable).");
-  auto body = py::reinterpret_borrow<py::class_<BodyFile, std::shared_ptr<BodyFile>>>(m.attr("Body"));
+  auto body =
+      py::reinterpret_borrow<py::class_<BodyFile, std::shared_ptr<BodyFile>>>(m.attr("Body"));
   body.def(py::pickle([](const BodyFile& b) { return BodyState(b); },
                       [](const py::tuple& t) { return BodyStateFrom(t); }));
   body.def("__copy__", [](py::object self) { return self; },

@@ -41,7 +41,8 @@ def fd_gradient(model, q, step):
     for j in range(q.size):
         e = np.zeros_like(q)
         e[j] = step
-        g[j] = (ringlet.energy(model, q + e).total - ringlet.energy(model, q - e).total) / (2 * step)
+        up, down = ringlet.energy(model, q + e).total, ringlet.energy(model, q - e).total
+        g[j] = (up - down) / (2 * step)
     return g
 
 
