@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <functional>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -34,6 +35,14 @@ void CheckThreads(long long threads);
 /// as Python prints it) unless ok and value is finite.
 void RequireNumber(bool ok, double value, const std::string& field, const char* expected);
 
+/// The absolute, normalized form of a directory ("" is the working directory).
+std::string AbsoluteDirectory(const std::string& directory);
+
+/// value as a numpy array of real numbers (integers or floats; not bool, complex, strings or
+/// objects, which numpy's casts would turn into numbers silently); otherwise ringlet.Error
+/// "field: expected EXPECTED, got an array of dtype D".
+py::array RealArray(const py::handle& value, const std::string& field, const char* expected);
+
 /// Registers ringlet.Error (a subclass of ValueError and RuntimeError) and its translator.
 void RegisterError(py::module_& m);
 
@@ -49,6 +58,32 @@ nlohmann::json ToJson(py::handle value, const std::string& where);
 /// callbacks); an exception it raises cancels like Ctrl-C and is re-raised.
 void RunInterruptibly(const std::function<void()>& work, std::atomic<bool>* cancel,
                       const std::function<void()>& on_tick = {});
+
+/// A Python callback progress(done, total) fed by a library ProgressCallback (solve_strands.h):
+/// Reporter() is called from worker threads and only stores the counts; Tick(), for
+/// RunInterruptibly's on_tick (the waiting thread, with the GIL), calls the Python callable with
+/// them when they changed since its last call. Work in phases (a groom's masters, then its
+/// solved children: each phase's count starts again at 1) is reported as one count: done never
+/// decreases, total grows by each new phase's total when it starts.
+class BatchProgress {
+ public:
+  /// callback: None (no reports) or a callable; anything else raises ringlet.Error naming
+  /// `field`.
+  BatchProgress(py::object callback, const char* field);
+  /// The library's callback (empty without a Python callback).
+  std::function<void(int, int)> Reporter();
+  /// The on_tick of RunInterruptibly (empty without a Python callback).
+  std::function<void()> Tick();
+
+ private:
+  py::object callback_;
+  std::mutex mutex_;
+  int offset_ = 0;      // the totals of the finished phases
+  int last_ = 0;        // the last count of the current phase
+  int done_ = 0;        // offset_ + last_
+  int total_ = 0;       // offset_ + the current phase's total
+  int reported_done_ = -1, reported_total_ = -1;  // what the callback was last given
+};
 
 /// A numpy array viewing `data` (no copy) with the given shape and strides (bytes), kept alive
 /// by `owner` (the Python object owning the storage). Read-only unless writable.
@@ -81,6 +116,8 @@ void BindSolve(py::module_& m);
 void BindHair(py::module_& m);
 void BindRender(py::module_& m);
 void BindInverse(py::module_& m);  // after BindSolve (it extends StrandModel)
+void BindBody(py::module_& m);
+void BindEnergy(py::module_& m);  // after BindSolve (its EnergyTerms)
 /// Pickling, copy.copy/deepcopy and repr of the values (after the others: extends their classes).
 void BindValues(py::module_& m);
 

@@ -52,18 +52,6 @@ py::array Vec3fView(std::vector<Vec3f>& v, py::handle owner) {
               {sizeof(Vec3f), sizeof(float)}, owner, true);
 }
 
-// value as a numpy array of real numbers (integers or floats; not bool, complex, strings or
-// objects, which numpy's casts would turn into numbers silently).
-py::array RealArray(const py::handle& value, const std::string& field, const char* expected) {
-  py::array a = py::module_::import("numpy").attr("asarray")(value);
-  const char kind = a.dtype().kind();
-  if (kind != 'i' && kind != 'u' && kind != 'f') {
-    throw Error(field + ": expected " + expected + ", got an array of dtype " +
-                std::string(py::str(a.dtype())));
-  }
-  return a;
-}
-
 // Copies an (n, 3) array of real numbers into Vec3f storage; None gives an empty vector.
 std::vector<Vec3f> ToVec3f(const py::handle& value, const char* field) {
   std::vector<Vec3f> out;
@@ -231,14 +219,6 @@ py::list References(std::vector<T>& items, py::handle owner) {
   py::list list;
   for (T& item : items) list.append(py::cast(&item, py::return_value_policy::reference_internal, owner));
   return list;
-}
-
-// The absolute, normalized form of a directory ("" is the working directory).
-std::string AbsoluteDirectory(const std::string& directory) {
-  std::error_code ignored;
-  const std::filesystem::path absolute =
-      std::filesystem::absolute(directory.empty() ? "." : directory, ignored);
-  return absolute.lexically_normal().string();
 }
 
 }  // namespace
@@ -412,7 +392,30 @@ void BindHair(py::module_& m) {
           "Styling operations in the file's \"operations\" list.")
       .def_property_readonly(
           "eccentricity", [](const HairstyleFile& h) { return HairTypeEccentricity(h.style.hair_type); },
-          "The hair type's fibre eccentricity in [0, 1) (mechanics and optics).");
+          "The hair type's fibre eccentricity in [0, 1) (mechanics and optics).")
+      .def_property_readonly(
+          "body",
+          [](const HairstyleFile& h) -> py::object {
+            if (!h.style.body) return py::none();
+            // The body as built (no rebuild), with the document it came from for pickling:
+            // the body file's text (read now) or the inline object.
+            nlohmann::json document;
+            std::string error;
+            if (!internal::ParseJsonText(h.document_text, &document, &error)) throw Error(error);
+            const nlohmann::json& member = document.at("body");
+            if (member.is_string()) {
+              std::filesystem::path file(member.get<std::string>());
+              if (file.is_relative()) file = std::filesystem::path(h.base_directory) / file;
+              std::string text;
+              if (!ReadFile(file.string(), &text, &error)) throw Error("body: " + error);
+              return py::cast(std::const_pointer_cast<BodyFile>(AdoptBody(
+                  text, AbsoluteDirectory(file.parent_path().string()), h.style.body)));
+            }
+            return py::cast(std::const_pointer_cast<BodyFile>(
+                AdoptBody(member.dump(), h.base_directory, h.style.body)));
+          },
+          "The hairstyle's body as a ringlet.Body (the one it was parsed with, not built "
+          "again; its pickle carries the body file's text as read when asked), or None.");
   m.def(
       "load_hairstyle",
       [](const std::string& path) {
@@ -502,7 +505,9 @@ void BindHair(py::module_& m) {
           "The Hairstyle it was groomed from.");
   m.def(
       "groom",
-      [](py::object hairstyle, long long threads, const std::string& base_directory) {
+      [](py::object hairstyle, long long threads, const std::string& base_directory,
+         py::object progress) {
+        BatchProgress reports(std::move(progress), "progress");
         auto result = std::make_unique<GroomResult>();
         result->hairstyle = HairstyleFrom(hairstyle, base_directory);
         CheckThreads(threads);
@@ -514,20 +519,26 @@ void BindHair(py::module_& m) {
               BatchOptions batch;
               batch.threads = static_cast<int>(threads);
               batch.cancel = &cancel;
+              batch.progress = reports.Reporter();
               ok = GroomHairstyle(result->hairstyle->style, batch, &result->groom, &error);
             },
-            &cancel);
+            &cancel, reports.Tick());
         if (!ok) throw Error(error);
         // The display colour of the file's melanins, as `ringlet groom` writes it.
         SetMelaninColours(result->hairstyle->render, &result->groom.strands);
         return result;
       },
       py::arg("hairstyle"), py::arg("threads") = 0, py::arg("base_directory") = ".",
+      py::arg("progress") = py::none(),
       "Grooms a hairstyle (GroomHairstyle, as `ringlet groom`: the unstyled hair, each strand "
       "coloured by the file's melanins, MelaninDisplayColour): a "
       "Hairstyle, a path or a dict (relative paths from base_directory). threads: 0 = all "
-      "cores (results do not depend on it). Returns a Groom. Releases the GIL; Ctrl-C stops it "
-      "(KeyboardInterrupt).");
+      "cores (results do not depend on it). progress(done, total), when given, is called with "
+      "the number of strands solved (the masters, then the solved children when the "
+      "hairstyle solves them: total grows by their count when they start) about every 20 ms "
+      "while it changes, in the calling thread, and last with (total, total); an exception it "
+      "raises stops the groom and is raised again. Returns a Groom. Releases the GIL; Ctrl-C "
+      "stops it (KeyboardInterrupt).");
 
   py::class_<OperationReport>(m, "OperationReport", "What one styling operation did.")
       .def_readonly("name", &OperationReport::name, "\"curl\", \"wet\", \"dry\", \"cut\", \"grow\".")

@@ -21,6 +21,7 @@
 #include "ringlet/inverse_summary.h"
 #include "ringlet/strand_geometry.h"
 #include "ringlet/strand_model.h"
+#include "types.h"
 
 namespace ringlet::python {
 
@@ -70,22 +71,6 @@ std::vector<std::vector<Vec3>> PolylinesFrom(py::handle targets) {
     }
   }
   return polylines;
-}
-
-// A body from a path (body JSON file), a body dict, or None.
-std::shared_ptr<const Body> BodyFrom(py::handle body) {
-  if (body.is_none()) return nullptr;
-  auto loaded = std::make_shared<Body>();
-  std::string error;
-  if (py::isinstance<py::str>(body) || py::hasattr(body, "__fspath__")) {
-    const std::string path = py::str(py::module_::import("os").attr("fspath")(body));
-    if (!LoadBody(path, loaded.get(), &error)) throw Error("body: " + error);
-  } else if (py::isinstance<py::dict>(body)) {
-    if (!ParseBody(ToJson(body, "body"), "body", "", loaded.get(), &error)) throw Error(error);
-  } else {
-    throw Error("body: expected a body file path or a body dict {\"spheres\": [...], ...}");
-  }
-  return loaded;
 }
 
 // The JSON summary as Python objects (json.loads of its text).
@@ -263,8 +248,8 @@ void BindInverse(py::module_& m) {
       "Inverse statics, as `ringlet invert` (docs/inverse.md): fits each target polyline (a "
       "HairCurves or a list of (k, 3) arrays, metres, root first) by a G1 piecewise helix "
       "(segments, 0 = the fewest meeting fit_tolerance x L), finds the rest shapes that hold "
-      "them under gravity and, with body (a body file path or dict), contact (support forces "
-      "as unknowns unless support_forces=False), certifies their stability and verifies them "
+      "them under gravity and, with body (a ringlet.Body, a body file path or dict), contact "
+      "(support forces as unknowns unless support_forces=False), certifies their stability and verifies them "
       "by the forward solve. hair_type 'ORIGIN' or 'ORIGIN/CURL' gives the section, material "
       "and natural curl (default: the paper's 50-um straight fibre). progress(stage, done, "
       "total) is called with stage 'fit' or 'invert' about every 20 ms. Returns a dict: "

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <exception>
+#include <filesystem>
 #include <mutex>
 #include <thread>
 
@@ -135,6 +136,23 @@ void RequireNumber(bool ok, double value, const std::string& field, const char* 
               std::string(py::repr(py::float_(value))));
 }
 
+std::string AbsoluteDirectory(const std::string& directory) {
+  std::error_code ignored;
+  const std::filesystem::path absolute =
+      std::filesystem::absolute(directory.empty() ? "." : directory, ignored);
+  return absolute.lexically_normal().string();
+}
+
+py::array RealArray(const py::handle& value, const std::string& field, const char* expected) {
+  py::array a = py::module_::import("numpy").attr("asarray")(value);
+  const char kind = a.dtype().kind();
+  if (kind != 'i' && kind != 'u' && kind != 'f') {
+    throw Error(field + ": expected " + expected + ", got an array of dtype " +
+                std::string(py::str(a.dtype())));
+  }
+  return a;
+}
+
 void CheckThreads(long long threads) {
   if (threads < 0 || threads > kMaxThreads) {
     throw Error("threads: expected an integer in [0, " + std::to_string(kMaxThreads) +
@@ -190,6 +208,43 @@ void RunInterruptibly(const std::function<void()>& work, std::atomic<bool>* canc
   if (on_tick) on_tick();  // the final report, so that short work reports once too
 }
 
+BatchProgress::BatchProgress(py::object callback, const char* field)
+    : callback_(std::move(callback)) {
+  if (!callback_.is_none() && !PyCallable_Check(callback_.ptr())) {
+    throw Error(std::string(field) + ": expected None or a callable progress(done, total), got " +
+                std::string(py::str(callback_.get_type().attr("__name__"))));
+  }
+}
+
+std::function<void(int, int)> BatchProgress::Reporter() {
+  if (callback_.is_none()) return {};
+  return [this](int finished, int total) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (finished <= last_) {  // a new phase: its count starts again
+      offset_ = total_;
+    }
+    last_ = finished;
+    done_ = offset_ + finished;
+    total_ = offset_ + total;
+  };
+}
+
+std::function<void()> BatchProgress::Tick() {
+  if (callback_.is_none()) return {};
+  return [this] {
+    int done = 0, total = 0;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      done = done_;
+      total = total_;
+    }
+    if (total == 0 || (done == reported_done_ && total == reported_total_)) return;
+    reported_done_ = done;
+    reported_total_ = total;
+    callback_(done, total);
+  };
+}
+
 }  // namespace ringlet::python
 
 PYBIND11_MODULE(_ringlet, m) {
@@ -203,5 +258,7 @@ PYBIND11_MODULE(_ringlet, m) {
   BindHair(m);
   BindRender(m);
   BindInverse(m);
+  BindBody(m);
+  BindEnergy(m);
   BindValues(m);
 }

@@ -356,6 +356,13 @@ std::shared_ptr<HairstyleFile> HairstyleStateFrom(const py::tuple& state) {
       HairstyleFromText(f[0].cast<std::string>(), f[1].cast<std::string>()));
 }
 
+py::tuple BodyState(const BodyFile& b) { return State(b.document_text, b.base_directory); }
+std::shared_ptr<BodyFile> BodyStateFrom(const py::tuple& state) {
+  const py::tuple f = Fields(state, 2, "Body");
+  return std::const_pointer_cast<BodyFile>(
+      BodyFromText(f[0].cast<std::string>(), f[1].cast<std::string>()));
+}
+
 // The masters of a groom are rebuilt from its hairstyle (BuildMasters: deterministic, no solve;
 // GroomHairstyle uses them as built), and checked bit for bit against the pickled roots and
 // segment lengths: a body file changed since pickling is an error, not a different head.
@@ -515,6 +522,28 @@ void BindReprs(py::module_& m) {
            ", operations=" + std::to_string(h.operations.size()) + ", base_directory=" +
            Repr(py::str(h.base_directory)) + ")";
   });
+  AddRepr<BodyFile>(m, "Body", [](const BodyFile& b) {
+    // Every sphere and mesh up to kShown of each, then their count.
+    constexpr size_t kShown = 8;
+    std::string spheres, meshes;
+    const auto& ss = b.body->spheres();
+    for (size_t i = 0; i < ss.size() && i < kShown; ++i) {
+      spheres += std::string(i ? ", " : "") + "Sphere(name=" + Repr(py::str(ss[i].name)) +
+                 ", center=" + Repr(ss[i].center) + ", radius=" + Repr(ss[i].radius) + ")";
+    }
+    if (ss.size() > kShown) spheres += ", ... (" + std::to_string(ss.size()) + " spheres)";
+    const auto& ms = b.body->meshes();
+    for (size_t i = 0; i < ms.size() && i < kShown; ++i) {
+      meshes += std::string(i ? ", " : "") + "Mesh(name=" + Repr(py::str(ms[i].name())) +
+                ", vertices=" + std::to_string(ms[i].vertices().size()) + ", triangles=" +
+                std::to_string(ms[i].triangles().size()) + ", volume=" + Repr(ms[i].volume()) +
+                ")";
+    }
+    if (ms.size() > kShown) meshes += ", ... (" + std::to_string(ms.size()) + " meshes)";
+    const bool grid = b.body->mesh_distance().mode == MeshDistanceOptions::Mode::kGrid;
+    return "Body(spheres=[" + spheres + "], meshes=[" + meshes + "], blend=" +
+           Repr(b.body->blend()) + ", mesh_distance='" + (grid ? "grid" : "exact") + "')";
+  });
   AddRepr<GroomSummary>(m, "GroomSummary", [](const GroomSummary& s) {
     return "GroomSummary(masters=" + std::to_string(s.masters) + ", strands=" +
            std::to_string(s.strands) + ", points=" + std::to_string(s.points) +
@@ -564,6 +593,15 @@ void BindValues(py::module_& m) {
   hairstyle.def(
       "__deepcopy__", [](py::object self, py::dict) { return self; }, py::arg("memo"),
       "The same object (a Hairstyle is immutable).");
+  auto body =
+      py::reinterpret_borrow<py::class_<BodyFile, std::shared_ptr<BodyFile>>>(m.attr("Body"));
+  body.def(py::pickle([](const BodyFile& b) { return BodyState(b); },
+                      [](const py::tuple& t) { return BodyStateFrom(t); }));
+  body.def("__copy__", [](py::object self) { return self; },
+           "The same object (a Body is immutable).");
+  body.def(
+      "__deepcopy__", [](py::object self, py::dict) { return self; }, py::arg("memo"),
+      "The same object (a Body is immutable).");
   auto groom = py::reinterpret_borrow<py::class_<GroomResult>>(m.attr("Groom"));
   groom.def(py::pickle([](const GroomResult& g) { return GroomState(g); },
                        [](const py::tuple& t) { return GroomFrom(t); }));

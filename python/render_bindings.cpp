@@ -78,7 +78,7 @@ void BindRender(py::module_& m) {
 
   m.def(
       "render",
-      [](py::object hair, py::object hairstyle, py::object settings, py::object body_path,
+      [](py::object hair, py::object hairstyle, py::object settings, py::object body_arg,
          std::optional<long long> width, std::optional<long long> height,
          std::optional<long long> samples_per_pixel, std::optional<double> eccentricity, long long threads,
          bool srgb, bool return_stats) {
@@ -136,11 +136,7 @@ void BindRender(py::module_& m) {
           e = HairTypeEccentricity(style->style.hair_type);
           orientation_seed = style->style.seed;
         }
-        if (!body_path.is_none()) {
-          auto loaded = std::make_shared<Body>();
-          if (!LoadBody(py::str(body_path), loaded.get(), &error)) throw Error("body: " + error);
-          body = std::move(loaded);
-        }
+        if (!body_arg.is_none()) body = BodyFrom(body_arg);
         if (eccentricity) e = *eccentricity;
         CheckThreads(threads);
         RenderScene scene;
@@ -174,8 +170,9 @@ void BindRender(py::module_& m) {
       "Path traces hair and body (render.h) as `ringlet render` does. hair: HairCurves or a "
       "Groom (which brings its hairstyle). hairstyle (Hairstyle, dict or path): its body, "
       "fibre eccentricity, seed and \"render\" settings. settings: a \"render\" object dict "
-      "(docs/hairstyle-format.md) replacing the hairstyle's. body: a body file path (hair "
-      "without hairstyle). width, height (pixels), samples_per_pixel override the settings; "
+      "(docs/hairstyle-format.md) replacing the hairstyle's. body: a ringlet.Body, a body file "
+      "path or a body dict (replacing the hairstyle's). width, height (pixels), "
+      "samples_per_pixel override the settings; "
       "eccentricity in [0, 1) overrides the hairstyle's (default 0). threads: 0 = all cores "
       "(the image does not depend on it). Returns an (H, W, 3) float32 array of linear "
       "radiance (W sr^-1 m^-2 per channel, row 0 at the top), or with srgb=True the uint8 sRGB "

@@ -506,7 +506,9 @@ void BindSolve(py::module_& m) {
 
   m.def(
       "solve",
-      [](py::object scene, const SolveOptions* options, int points_per_segment, long long threads) {
+      [](py::object scene, const SolveOptions* options, int points_per_segment, long long threads,
+         py::object progress) {
+        BatchProgress reports(std::move(progress), "progress");
         Scene s = SceneFrom(scene);
         if (options) s.solver = *options;
         std::string why;
@@ -540,6 +542,7 @@ void BindSolve(py::module_& m) {
               BatchOptions batch;
               batch.threads = static_cast<int>(threads);
               batch.cancel = &cancel;
+              batch.progress = reports.Reporter();
               const std::vector<StrandSolution> solutions =
                   SolveStrands(s.strands, s.solver, batch);
               if (cancel.load()) return;
@@ -552,17 +555,20 @@ void BindSolve(py::module_& m) {
                 solved[i].result = std::move(results[i]);
               }
             },
-            &cancel);
+            &cancel, reports.Tick());
         return solved;
       },
       py::arg("scene"), py::arg("options") = nullptr, py::arg("points_per_segment") = 1,
-      py::arg("threads") = 0,
+      py::arg("threads") = 0, py::arg("progress") = py::none(),
       "Solves every strand (SolveStrands, then MakeStrandResults as `ringlet solve` does). "
       "scene: a Scene, a scene dict (docs/scene-format.md), a path to a scene file, a "
       "StrandModel or a list of them. options: SolveOptions (default: the scene's \"solver\", "
       "else SolveOptions()). points_per_segment k >= 1: centreline samples per segment. "
-      "threads: 0 = all cores (results do not depend on it). Returns a list of StrandResult. "
-      "Releases the GIL; Ctrl-C stops it (KeyboardInterrupt).");
+      "threads: 0 = all cores (results do not depend on it). progress(done, total), when given, "
+      "is called with the number of strands solved about every 20 ms while it changes, in "
+      "the calling thread, and last with (total, total); an exception it raises stops the "
+      "solve and is raised again. Returns a list of StrandResult. Releases the GIL; Ctrl-C "
+      "stops it (KeyboardInterrupt).");
 }
 
 }  // namespace ringlet::python

@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "ringlet/body.h"
 #include "ringlet/hairstyle.h"
 #include "ringlet/math.h"
 #include "ringlet/render_json.h"
@@ -53,5 +54,30 @@ struct GroomResult {
 /// The hairstyle of a Hairstyle, a hairstyle dict (relative paths from base_directory) or a path.
 std::shared_ptr<const HairstyleFile> HairstyleFrom(pybind11::handle hairstyle,
                                                    const std::string& base_directory);
+
+/// What ringlet.Body holds: an immutable body and what it was parsed from, for pickling (the
+/// body is parsed again from them): the JSON text of the body file or dict and the absolute
+/// directory of its relative OBJ paths.
+struct BodyFile {
+  std::shared_ptr<const Body> body;
+  std::string document_text;
+  std::string base_directory;
+};
+
+/// The body of a document text and base directory (BodyFile's pickle). Bodies still alive in
+/// this process are shared, keyed by both (a mesh body's grid takes seconds to build).
+std::shared_ptr<const BodyFile> BodyFromText(const std::string& text,
+                                             const std::string& base_directory);
+
+/// A ringlet.Body for an already built body (a hairstyle's) and the document it was built from:
+/// the one alive from the same text and directory, else this one (no rebuild).
+std::shared_ptr<const BodyFile> AdoptBody(const std::string& text,
+                                          const std::string& base_directory,
+                                          std::shared_ptr<const Body> body);
+
+/// The body of a ringlet.Body, a body file path, a body dict (relative OBJ paths from
+/// base_directory) or None (null). `field` names the argument in errors ("body").
+std::shared_ptr<const Body> BodyFrom(pybind11::handle body, const std::string& field = "body",
+                                     const std::string& base_directory = ".");
 
 }  // namespace ringlet::python

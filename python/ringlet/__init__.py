@@ -12,7 +12,7 @@ are the C++ API's, functions in snake_case (``SolveStrands`` -> ``solve``, ``Rea
 
 Errors raise ringlet.Error (a ValueError and RuntimeError) with the library's one-line message.
 Long solves, grooms, styling operations and renders release the GIL and stop on Ctrl-C.
-Models, scenes, hairstyles, results, grooms and hair curves pickle bit for bit and support
+Models, scenes, bodies, hairstyles, results, grooms and hair curves pickle bit for bit and support
 copy.copy / copy.deepcopy (multiprocessing, joblib). Type stubs: ringlet/__init__.pyi.
 """
 

@@ -8,6 +8,51 @@ import numpy.typing
 
 __version__: str
 
+class Body:
+    """A body hair rests on (body.h, docs/body.md): a union of spheres and closed triangle meshes, folded with a smooth minimum of radius `blend`, seen through its signed distance (m, negative inside). Immutable; queries are vectorized over (..., 3) arrays of points and release the GIL for large inputs. Accepted wherever the module takes a body (render(body=...), invert(body=...)). Pickles as its JSON document and the absolute directory of its OBJ files (parsed again: the mesh files must still be there)."""
+    def __copy__(self) -> Any:
+        """The same object (a Body is immutable)."""
+    def __deepcopy__(self, memo: dict) -> Any:
+        """The same object (a Body is immutable)."""
+    def __getstate__(self) -> tuple:
+        ...
+    def __init__(self, source: Any, base_directory: str = ...) -> None:
+        """A body from a body file path or a body dict in the file's JSON schema (docs/body.md: {"spheres": [{"name", "center", "radius"}], "meshes": [{"obj": PATH}], "blend", "mesh_distance", "grid_spacing", "grid_band"}; blend defaults to 0.005 m and mesh distances to the grid, as in files). A dict's relative OBJ paths are taken from base_directory. Every field is checked; errors are ringlet.Error naming it."""
+    def __setstate__(self, arg0: tuple) -> None:
+        ...
+    @property
+    def base_directory(self) -> str:
+        """Absolute directory of its relative OBJ paths."""
+    @property
+    def blend(self) -> float:
+        """Radius of the smooth union (m; 0 = exact minimum)."""
+    @property
+    def bounds(self) -> numpy.typing.NDArray[Any]:
+        """Box around all the components: (2, 3) array of its min and max corners (m)."""
+    def document(self) -> Any:
+        """The body's JSON document as a dict (a new dict: the file's, or the one given)."""
+    @property
+    def grid_band(self) -> float:
+        """Half-width of the grid's exact band (m): distances are clamped to +-band."""
+    @property
+    def grid_spacing(self) -> float:
+        """Grid spacing h (m), used in grid mode with meshes."""
+    @property
+    def mesh_distance(self) -> str:
+        """"grid" (a B-spline of exact distances on a grid, C^2) or "exact" (closest-point queries) for the meshes."""
+    @property
+    def meshes(self) -> list:
+        """The closed meshes (one per OBJ object or group): dicts {"name", "vertices" (V, 3) float64 (m), "triangles" (T, 3) int32 (counter-clockwise seen from outside), "volume" (m^3)} (copies)."""
+    def signed_distance(self, points: numpy.typing.ArrayLike) -> Any:
+        """Signed distance (m, negative inside) at points (..., 3) (m): an array of shape (...,), or a float for a single point (3,). Body::SignedDistance: exact for spheres (|x - c| - r) and exact mesh queries, the grid's B-spline for grid meshes, folded by the smooth minimum where components are within `blend` of each other."""
+    def signed_distance_gradient(self, points: numpy.typing.ArrayLike) -> Any:
+        """(distance, gradient): the signed distance as signed_distance and its gradient, the outward unit normal of the closest surface point (..., 3) (dimensionless; a convex combination of the components' normals on the smooth union's creases, |g| <= 1)."""
+    def signed_distance_hessian(self, points: numpy.typing.ArrayLike) -> Any:
+        """(distance, gradient, hessian): as signed_distance_gradient plus the Hessian of the distance (..., 3, 3) (1/m), Body::SignedDistanceHessian: (I - n n^T) / |x - c| for a sphere, the smooth minimum's own Hessian on the creases (docs/body.md)."""
+    @property
+    def spheres(self) -> list:
+        """The spheres in file order: dicts {"name", "center" (3,) (m), "radius" (m)} (copies)."""
+
 class ContactMeasure:
     """Contact at a configuration."""
     def __copy__(self) -> ContactMeasure:
@@ -232,6 +277,9 @@ class Hairstyle:
         ...
     def __setstate__(self, arg0: tuple) -> None:
         ...
+    @property
+    def body(self) -> Any:
+        """The hairstyle's body as a ringlet.Body (the one it was parsed with, not built again; its pickle carries the body file's text as read when asked), or None."""
     @property
     def eccentricity(self) -> float:
         """The hair type's fibre eccentricity in [0, 1) (mechanics and optics)."""
@@ -604,14 +652,23 @@ def encode_srgb8(image: numpy.typing.ArrayLike, exposure: float = ...) -> numpy.
 def encode_usc_data(curves: HairCurves, units_per_metre: float = ..., up: str = ...) -> bytes:
     """The bytes of the .data file write_usc_data writes (points only: the format has no widths or colours)."""
 
+def energy(model: StrandModel, curvatures: numpy.typing.ArrayLike) -> EnergyTerms:
+    """The energy terms (J) of the configuration `curvatures` ((n, 3) or (3n,) (kappa1, kappa2, tau) per segment, 1/m) of model (StrandEnergy, energy.h): elastic (eq. 3, 0 at the rest shape), gravity (eqs. 4-5, measured from the root: -f . int (r(s) - r(0)) ds), contact (the body penalty of section 3.1, 0 without a body) and their total: the function the solver minimizes."""
+
 def graded_segments(length: float, segments: int, ratio: float) -> List[float]:
     """n segment lengths (1 to 100000) growing geometrically root to tip, last/first = ratio >= 1, sum L (L > 0, m)."""
 
-def groom(hairstyle: Any, threads: int = ..., base_directory: str = ...) -> Groom:
-    """Grooms a hairstyle (GroomHairstyle, as `ringlet groom`: the unstyled hair, each strand coloured by the file's melanins, MelaninDisplayColour): a Hairstyle, a path or a dict (relative paths from base_directory). threads: 0 = all cores (results do not depend on it). Returns a Groom. Releases the GIL; Ctrl-C stops it (KeyboardInterrupt)."""
+def gradient(model: StrandModel, curvatures: numpy.typing.ArrayLike) -> numpy.typing.NDArray[Any]:
+    """The exact gradient dE/dq of the total energy (J m) at curvatures q ((n, 3) or (3n,), 1/m): a (3n,) float64 array, (kappa1, kappa2, tau) of segment 0 first (StrandEnergy: the closed-form derivatives of eqs. 3-5 and of the contact penalty, one reverse sweep). Zero at an equilibrium."""
+
+def groom(hairstyle: Any, threads: int = ..., base_directory: str = ..., progress: Any = ...) -> Groom:
+    """Grooms a hairstyle (GroomHairstyle, as `ringlet groom`: the unstyled hair, each strand coloured by the file's melanins, MelaninDisplayColour): a Hairstyle, a path or a dict (relative paths from base_directory). threads: 0 = all cores (results do not depend on it). progress(done, total), when given, is called with the number of strands solved (the masters, then the solved children when the hairstyle solves them: total grows by their count when they start) about every 20 ms while it changes, in the calling thread, and last with (total, total); an exception it raises stops the groom and is raised again. Returns a Groom. Releases the GIL; Ctrl-C stops it (KeyboardInterrupt)."""
+
+def hessian(model: StrandModel, curvatures: numpy.typing.ArrayLike) -> numpy.typing.NDArray[Any]:
+    """The exact Hessian d^2E/dq^2 of the total energy (J m^2) at curvatures q ((n, 3) or (3n,), 1/m): a dense symmetric (3n, 3n) float64 array, Fortran-ordered (ComputeStrandHessian, strand_hessian.h: closed-form second derivatives of every helical segment, the body's own distance Hessian for contact; exact to rounding, not finite differences). The solver's stability certificate factors the same matrix. At most 1000 segments (the dense matrix takes 72 n^2 bytes). The contact penalty is C^1: its Hessian jumps where a sample enters or leaves contact."""
 
 def invert(targets: numpy.typing.ArrayLike, body: Any = ..., hair_type: str = ..., clearance: float = ..., segments: int = ..., fit_tolerance: float = ..., support_forces: bool = ..., threads: int = ..., progress: Any = ...) -> dict:
-    """Inverse statics, as `ringlet invert` (docs/inverse.md): fits each target polyline (a HairCurves or a list of (k, 3) arrays, metres, root first) by a G1 piecewise helix (segments, 0 = the fewest meeting fit_tolerance x L), finds the rest shapes that hold them under gravity and, with body (a body file path or dict), contact (support forces as unknowns unless support_forces=False), certifies their stability and verifies them by the forward solve. hair_type 'ORIGIN' or 'ORIGIN/CURL' gives the section, material and natural curl (default: the paper's 50-um straight fibre). progress(stage, done, total) is called with stage 'fit' or 'invert' about every 20 ms. Returns a dict: 'models' (StrandModels with rest_curvatures, the body and its support offsets: ringlet.solve(models) finds the equilibria again where they are the only stable ones), 'target_curvatures' ((n, 3) arrays), 'equilibria' and 'naive_equilibria' ((k, 3) arrays at the targets' own points) and 'summary' (the summary.json of ringlet invert). The GIL is released; Ctrl-C stops it."""
+    """Inverse statics, as `ringlet invert` (docs/inverse.md): fits each target polyline (a HairCurves or a list of (k, 3) arrays, metres, root first) by a G1 piecewise helix (segments, 0 = the fewest meeting fit_tolerance x L), finds the rest shapes that hold them under gravity and, with body (a ringlet.Body, a body file path or dict), contact (support forces as unknowns unless support_forces=False), certifies their stability and verifies them by the forward solve. hair_type 'ORIGIN' or 'ORIGIN/CURL' gives the section, material and natural curl (default: the paper's 50-um straight fibre). progress(stage, done, total) is called with stage 'fit' or 'invert' about every 20 ms. Returns a dict: 'models' (StrandModels with rest_curvatures, the body and its support offsets: ringlet.solve(models) finds the equilibria again where they are the only stable ones), 'target_curvatures' ((n, 3) arrays), 'equilibria' and 'naive_equilibria' ((k, 3) arrays at the targets' own points) and 'summary' (the summary.json of ringlet invert). The GIL is released; Ctrl-C stops it."""
 
 def load_hairstyle(path: str) -> Hairstyle:
     """Reads a hairstyle file (relative paths from its directory). Every field, the operations and the render settings are checked; errors are ringlet.Error starting with the path."""
@@ -635,7 +692,7 @@ def recommended_grading_ratio(gravity_parameter: float) -> float:
     """The last/first segment ratio recommended for the load w L^3 / (E I1) >= 0 (dimensionless)."""
 
 def render(hair: Any = ..., hairstyle: Any = ..., settings: Any = ..., body: Any = ..., width: Optional[int] = ..., height: Optional[int] = ..., samples_per_pixel: Optional[int] = ..., eccentricity: Optional[float] = ..., threads: int = ..., srgb: bool = ..., return_stats: bool = ...) -> Any:
-    """Path traces hair and body (render.h) as `ringlet render` does. hair: HairCurves or a Groom (which brings its hairstyle). hairstyle (Hairstyle, dict or path): its body, fibre eccentricity, seed and "render" settings. settings: a "render" object dict (docs/hairstyle-format.md) replacing the hairstyle's. body: a body file path (hair without hairstyle). width, height (pixels), samples_per_pixel override the settings; eccentricity in [0, 1) overrides the hairstyle's (default 0). threads: 0 = all cores (the image does not depend on it). Returns an (H, W, 3) float32 array of linear radiance (W sr^-1 m^-2 per channel, row 0 at the top), or with srgb=True the uint8 sRGB codes that `ringlet render` writes to its PNG (exposure applied, clamped); with return_stats=True a tuple (image, RenderStats). Releases the GIL; Ctrl-C stops it."""
+    """Path traces hair and body (render.h) as `ringlet render` does. hair: HairCurves or a Groom (which brings its hairstyle). hairstyle (Hairstyle, dict or path): its body, fibre eccentricity, seed and "render" settings. settings: a "render" object dict (docs/hairstyle-format.md) replacing the hairstyle's. body: a ringlet.Body, a body file path or a body dict (replacing the hairstyle's). width, height (pixels), samples_per_pixel override the settings; eccentricity in [0, 1) overrides the hairstyle's (default 0). threads: 0 = all cores (the image does not depend on it). Returns an (H, W, 3) float32 array of linear radiance (W sr^-1 m^-2 per channel, row 0 at the top), or with srgb=True the uint8 sRGB codes that `ringlet render` writes to its PNG (exposure applied, clamped); with return_stats=True a tuple (image, RenderStats). Releases the GIL; Ctrl-C stops it."""
 
 def section_from_eccentricity(mean_radius: float, eccentricity: float) -> CrossSection:
     """Section of mean radius sqrt(a b) (m, > 0) and eccentricity in [0, 1)."""
@@ -643,8 +700,8 @@ def section_from_eccentricity(mean_radius: float, eccentricity: float) -> CrossS
 def section_from_ellipticity(mean_radius: float, ellipticity: float) -> CrossSection:
     """Section of mean radius sqrt(a b) (m, > 0) and ellipticity a/b >= 1."""
 
-def solve(scene: Any, options: Optional[SolveOptions] = ..., points_per_segment: int = ..., threads: int = ...) -> List[StrandResult]:
-    """Solves every strand (SolveStrands, then MakeStrandResults as `ringlet solve` does). scene: a Scene, a scene dict (docs/scene-format.md), a path to a scene file, a StrandModel or a list of them. options: SolveOptions (default: the scene's "solver", else SolveOptions()). points_per_segment k >= 1: centreline samples per segment. threads: 0 = all cores (results do not depend on it). Returns a list of StrandResult. Releases the GIL; Ctrl-C stops it (KeyboardInterrupt)."""
+def solve(scene: Any, options: Optional[SolveOptions] = ..., points_per_segment: int = ..., threads: int = ..., progress: Any = ...) -> List[StrandResult]:
+    """Solves every strand (SolveStrands, then MakeStrandResults as `ringlet solve` does). scene: a Scene, a scene dict (docs/scene-format.md), a path to a scene file, a StrandModel or a list of them. options: SolveOptions (default: the scene's "solver", else SolveOptions()). points_per_segment k >= 1: centreline samples per segment. threads: 0 = all cores (results do not depend on it). progress(done, total), when given, is called with the number of strands solved about every 20 ms while it changes, in the calling thread, and last with (total, total); an exception it raises stops the solve and is raised again. Returns a list of StrandResult. Releases the GIL; Ctrl-C stops it (KeyboardInterrupt)."""
 
 def uniform_segments(length: float, segments: int) -> List[float]:
     """n segments (1 to 100000) of equal length L/n (L > 0, m)."""
