@@ -77,7 +77,8 @@ def test_groom_reports_masters_then_solved_children(small_style):
     with pytest.raises(ZeroDivisionError, match="from the callback"):
         ringlet.groom(long_style(), threads=1, progress=fails)
     assert len(calls) == 1 and calls[0][0] < 300, calls  # raised while it worked, not again
-    assert time.perf_counter() - started < 0.5 * seconds
+    # Stopped, not run to its end: well under the full groom (same process, same load).
+    assert time.perf_counter() - started < 0.75 * seconds
     with pytest.raises(ZeroDivisionError, match="from the callback"):
         ringlet.solve(str(EXAMPLES / "strands.json"), progress=fails)
 
