@@ -15,6 +15,8 @@
 #include <utility>
 #include <vector>
 
+#include "ringlet/hair_curves.h"
+
 namespace ringlet {
 
 /// Most items of a spec (10^9: item folders are named with 9 digits).
@@ -131,6 +133,12 @@ const char* BatchStatusName(BatchItemResult::Status status);
 /// cancel (may be null): once set, returns kFailed with error "cancelled" early. Never throws.
 BatchItemResult RunBatchItem(const BatchSpec& spec, const BatchItem& item, int threads,
                              const std::atomic<bool>* cancel);
+
+/// Each strand resampled to n >= 2 points equally spaced in arc length along its polyline (the
+/// outputs' points_per_strand): positions and widths interpolated linearly in double and rounded
+/// to float, the first and last points kept; colours and wetness kept, major axes dropped (no
+/// file format stores them).
+HairCurves ResampleStrands(const HairCurves& curves, int n);
 
 /// Whether outdir/NAME/done exists (the item is finished).
 bool BatchItemDone(const std::string& outdir, const std::string& name);

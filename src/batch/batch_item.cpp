@@ -33,9 +33,8 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Each strand resampled to n points equally spaced in arc length along its polyline (linear
-// interpolation of positions and widths, in double, rounded to float); colours and wetness
-// kept per strand, major axes dropped (no file format stores them).
+}  // namespace
+
 HairCurves ResampleStrands(const HairCurves& in, int n) {
   HairCurves out;
   out.colors = in.colors;
@@ -68,6 +67,8 @@ HairCurves ResampleStrands(const HairCurves& in, int n) {
   }
   return out;
 }
+
+namespace {
 
 // A NumPy .npy file (format version 1.0, https://numpy.org/doc/stable/reference/generated/
 // numpy.lib.format.html) of little-endian float32 values of shape (height, width).

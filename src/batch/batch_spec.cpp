@@ -645,7 +645,10 @@ bool ParseBatchSpec(const nlohmann::json& document, const std::string& base_dire
                   ? ""
                   : (t % 2 == 0 ? " with the parameters at their lowest values"
                                 : " with the parameters at their highest values");
-          reader.Fail(Element("bases", b) + " (" + s.base_names[b] + ")" + where, why);
+          const std::string base = Element("bases", b);
+          const std::string name =
+              s.base_names[b] == base ? base : base + " (" + s.base_names[b] + ")";
+          reader.Fail(name + where, why);
           return fail();
         }
       }
