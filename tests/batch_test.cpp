@@ -160,6 +160,29 @@ TEST(BatchSpec, DistributionsDrawWhatTheySay) {
   EXPECT_NEAR(mean(spread), truncated_mean, 4.5 * 0.1 / std::sqrt(n));
 }
 
+TEST(BatchSpec, IntegerFieldsOfOperationsDrawIntegers) {
+  json document = SpecDocument();
+  document["operations"] = json::parse(R"([
+    {"grow": {"step": 0.01, "steps": {"uniform": [1, 3]}}},
+    {"cut": {"plane": {"normal": [0, 0, 1], "offset": {"uniform": [-0.2, -0.1]}}}}
+  ])");
+  const BatchSpec spec = ParseOrDie(document);
+  std::map<std::int64_t, int> steps;
+  for (int k = 0; k < 60; ++k) {
+    const json ops = ResolveBatchItem(spec, k).parameters["operations"];
+    ASSERT_EQ(ops.size(), 2u);
+    ASSERT_TRUE(ops[0]["grow"]["steps"].is_number_integer()) << ops[0];
+    ++steps[ops[0]["grow"]["steps"].get<std::int64_t>()];
+    EXPECT_EQ(ops[1]["cut"]["plane"]["normal"], json::parse("[0, 0, 1]"));
+    const double offset = ops[1]["cut"]["plane"]["offset"].get<double>();
+    EXPECT_GE(offset, -0.2);
+    EXPECT_LT(offset, -0.1);
+  }
+  EXPECT_EQ(steps.size(), 3u);
+  EXPECT_EQ(steps.begin()->first, 1);
+  EXPECT_EQ(steps.rbegin()->first, 3);
+}
+
 TEST(BatchSpec, BadSpecsNameTheField) {
   struct Case {
     const char* patch;  // merged into the good spec (null values remove members)

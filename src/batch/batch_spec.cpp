@@ -289,8 +289,13 @@ json ResolveOperation(const BatchOperation& op, const ValueOf& value_of) {
 bool CollectDistributions(Reader& reader, const json& value, const std::string& path,
                           const std::string& pointer, BatchOperation* op) {
   if (IsDistribution(value)) {
+    // The integer fields of the operations (docs/hairstyle-format.md, "operations").
+    const bool integer = pointer.ends_with("/steps") || pointer.ends_with("/max_rounds") ||
+                         pointer.ends_with("/samples_per_segment") ||
+                         pointer.find("/select/indices") != std::string::npos;
     BatchDistribution d;
-    if (!ParseDistribution(reader, value, path, FieldType::kNumber, &d)) {
+    if (!ParseDistribution(reader, value, path, integer ? FieldType::kInteger : FieldType::kNumber,
+                           &d)) {
       // Choices of non-numbers ("select" objects, booleans) are allowed in operations.
       if (value.begin().key() != "choice") return false;
       const json& body = *value.begin();
