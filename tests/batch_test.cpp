@@ -199,7 +199,7 @@ TEST(BatchSpec, BadSpecsNameTheField) {
       {R"({"parameters": {"hair.length": {"uniform": [0.3, 0.1]}}})",
        "parameters[\"hair.length\"].uniform: expected [low, high]: finite numbers, low < high"},
       {R"({"parameters": {"hair.length": {"uniform": [-0.1, 0.1]}}})",
-       "with the parameters at their lowest values: hair.length: expected"},
+       "with the parameters at their lowest bounds and choice[0] of each choice (its last when shorter): hair.length: expected"},
       {R"({"parameters": {"hair.length": {"gamma": [1, 2]}}})",
        "parameters[\"hair.length\"]: expected a distribution"},
       {R"({"parameters": {"hair.curl": {"uniform": [1, 2]}}})",

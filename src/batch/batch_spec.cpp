@@ -645,11 +645,23 @@ bool ParseBatchSpec(const nlohmann::json& document, const std::string& base_dire
         if (!ParseHairstyle(doc, base_directory, &style, &why) ||
             !ParseStyleOperations(doc, &parsed, &why) ||
             !ParseRenderMember(doc, &settings, &why)) {
-          const std::string where =
-              s.parameters.empty() && s.operations.empty()
-                  ? ""
-                  : (t % 2 == 0 ? " with the parameters at their lowest values"
-                                : " with the parameters at their highest values");
+          bool choices = false;
+          for (const BatchParameter& p : s.parameters) {
+            choices = choices || p.distribution.kind == BatchDistribution::Kind::kChoice;
+          }
+          for (const BatchOperation& op : s.operations) {
+            for (const auto& d : op.distributions) {
+              choices = choices || d.second.kind == BatchDistribution::Kind::kChoice;
+            }
+          }
+          std::string where;
+          if (!s.parameters.empty() || !s.operations.empty()) {
+            where = std::string(" with the parameters at their ") +
+                    (t % 2 == 0 ? "lowest" : "highest") + " bounds";
+            if (choices) {
+              where += " and choice[" + std::to_string(t) + "] of each choice (its last when shorter)";
+            }
+          }
           const std::string base = Element("bases", b);
           const std::string name =
               s.base_names[b] == base ? base : base + " (" + s.base_names[b] + ")";
