@@ -250,6 +250,49 @@ TEST(BatchSpec, OrbitViewsCircleTheHeadAtTheElevation) {
   }
 }
 
+TEST(BatchItems, RunWritesTheDocumentedFilesWithExplicitViews) {
+  const json document = json::parse(R"({
+    "count": 2,
+    "bases": [{"body": {"spheres": [{"name": "head", "center": [0, 0, 0], "radius": 0.1}]},
+               "masters": {"count": 3, "segments": 4},
+               "hair": {"length": 0.12},
+               "wisps": {"strands_per_wisp": 2, "points_per_strand": 6}}],
+    "views": [{"position": [0, 0.6, 0.1], "look_at": [0, 0, 0], "fov_degrees": 40},
+              {"view_direction": [0, 1, 0]}],
+    "outputs": {"formats": ["hair", "data"], "points_per_strand": 5,
+                "images": {"width": 16, "height": 12, "samples_per_pixel": 1}}
+  })");
+  const BatchSpec spec = ParseOrDie(document);
+  const BatchItem item = ResolveBatchItem(spec, 1);
+  const BatchItemResult result = RunBatchItem(spec, item, 1, nullptr);
+  ASSERT_EQ(result.status, BatchItemResult::Status::kDone) << result.error;
+  std::vector<std::string> names;
+  for (const auto& file : result.files) names.push_back(file.first);
+  const std::vector<std::string> expected = {
+      "hairstyle.json", "strands.hair", "strands.data", "rgb_00.png", "mask_00.png",
+      "orientation_00.png", "depth_00.npy", "rgb_01.png", "mask_01.png",
+      "orientation_01.png", "depth_01.npy", "metadata.json"};
+  EXPECT_EQ(names, expected);
+  const json metadata = json::parse(result.files.back().second);
+  EXPECT_EQ(metadata["status"], "done");
+  EXPECT_EQ(metadata["strands"]["strands"], 6);
+  EXPECT_EQ(metadata["strands"]["points"], 30);
+  EXPECT_EQ(metadata["views"][0]["camera"]["position"], json::parse("[0, 0.6, 0.1]"));
+  EXPECT_EQ(metadata["views"][0]["width"], 16);
+  EXPECT_EQ(metadata["views"][0]["height"], 12);
+  // The framed view looks along +y: the camera lies on the -y side of the head.
+  EXPECT_LT(metadata["views"][1]["camera"]["position"][1].get<double>(), -0.1);
+  // depth_00.npy: the 128-byte header, then 16 x 12 float32.
+  EXPECT_EQ(result.files[6].second.size(), 128u + 16u * 12u * 4u);
+  EXPECT_EQ(result.files[6].second.substr(0, 6), "\x93NUMPY");
+  // The same bytes on two threads.
+  const BatchItemResult again = RunBatchItem(spec, item, 2, nullptr);
+  ASSERT_EQ(again.files.size(), result.files.size());
+  for (size_t i = 0; i < result.files.size(); ++i) {
+    EXPECT_EQ(again.files[i].second, result.files[i].second) << result.files[i].first;
+  }
+}
+
 TEST(BatchRange, ShardsCoverTheItemsOnceInBlocks) {
   for (const std::int64_t length : {1, 7, 12, 1000}) {
     for (const int n : {1, 2, 3, 5, 12, 13}) {
