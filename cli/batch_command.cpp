@@ -61,8 +61,9 @@ void InstallStopHandlers() {
 // manifest-shard-K-of-N.jsonl or manifest-items-A-B-shard-K-of-N.jsonl.
 std::string ManifestName(const BatchArgs& args, const BatchRange& items, int k, int n) {
   std::string name = "manifest";
-  if (!args.items.empty()) name += Format("-items-%lld-%lld", static_cast<long long>(items.begin),
-                                          static_cast<long long>(items.end));
+  if (!args.items.empty())
+    name += Format("-items-%lld-%lld", static_cast<long long>(items.begin),
+                   static_cast<long long>(items.end));
   if (!args.shard.empty()) name += Format("-shard-%d-of-%d", k, n);
   if (args.items.empty() && args.shard.empty()) name += "-all";
   return name + ".jsonl";
@@ -174,9 +175,15 @@ int RunBatch(const BatchArgs& args) {
     }
     ++run;
     switch (result.status) {
-      case BatchItemResult::Status::kDone: ++done; break;
-      case BatchItemResult::Status::kFlagged: ++flagged; break;
-      case BatchItemResult::Status::kFailed: ++failed; break;
+      case BatchItemResult::Status::kDone:
+        ++done;
+        break;
+      case BatchItemResult::Status::kFlagged:
+        ++flagged;
+        break;
+      case BatchItemResult::Status::kFailed:
+        ++failed;
+        break;
     }
     if (!AppendManifestLine(manifest, BatchManifestLine(item, result), &error)) {
       PrintWarning(error);
@@ -197,12 +204,13 @@ int RunBatch(const BatchArgs& args) {
   }
   const bool stopped = g_stop.load();
   if (!args.quiet) {
-    std::printf("batch: %lld items [%lld, %lld) of %lld: %ld done, %ld flagged, %ld failed, %ld "
-                "skipped%s in %s -> %s\n",
-                static_cast<long long>(total), static_cast<long long>(range.begin),
-                static_cast<long long>(range.end), static_cast<long long>(spec.count), done,
-                flagged, failed, skipped, stopped ? " (stopped by a signal)" : "",
-                FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
+    std::printf(
+        "batch: %lld items [%lld, %lld) of %lld: %ld done, %ld flagged, %ld failed, %ld "
+        "skipped%s in %s -> %s\n",
+        static_cast<long long>(total), static_cast<long long>(range.begin),
+        static_cast<long long>(range.end), static_cast<long long>(spec.count), done, flagged,
+        failed, skipped, stopped ? " (stopped by a signal)" : "",
+        FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
     std::fflush(stdout);
   }
   if (stopped) {
@@ -234,7 +242,8 @@ Command AddBatchCommand(CLI::App* parent) {
   app->add_option("--threads", args->threads,
                   "Worker threads per item (default 0: all cores); the files do not depend on it")
       ->check(CLI::Range(0, 1024));
-  app->add_flag("-q,--quiet", args->quiet, "Print no progress or summary (errors still go to stderr)");
+  app->add_flag("-q,--quiet", args->quiet,
+                "Print no progress or summary (errors still go to stderr)");
   return Command{app, [args] { return RunBatch(*args); }};
 }
 

@@ -2,6 +2,8 @@
 // distributions draw what they say (moments against their closed forms); a bad spec is one line
 // naming the field; shards cover the items once; manifest lines survive concurrent appends;
 // resampling spaces points equally; the label maps of a known scene.
+#include "ringlet/batch.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +15,6 @@
 #include <thread>
 #include <vector>
 
-#include "ringlet/batch.h"
 #include "ringlet/hair_bsdf.h"
 #include "ringlet/render.h"
 
@@ -150,7 +151,9 @@ TEST(BatchSpec, DistributionsDrawWhatTheySay) {
   // Normal(0.2, 0.1) truncated to [0.1, 0.4]: mean mu + sigma (phi(a) - phi(b)) / (Phi(b) -
   // Phi(a)), a = -1, b = 2 (Johnson, Kotz & Balakrishnan, Continuous Univariate Distributions
   // 1, eq. 13.134); the SD bounded by the untruncated 0.1.
-  const auto phi = [](double x) { return std::exp(-0.5 * x * x) / std::sqrt(2 * std::numbers::pi); };
+  const auto phi = [](double x) {
+    return std::exp(-0.5 * x * x) / std::sqrt(2 * std::numbers::pi);
+  };
   const auto Phi = [](double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); };
   const double truncated_mean = 0.2 + 0.1 * (phi(-1) - phi(2)) / (Phi(2) - Phi(-1));
   for (double x : spread) {
@@ -199,7 +202,8 @@ TEST(BatchSpec, BadSpecsNameTheField) {
       {R"({"parameters": {"hair.length": {"uniform": [0.3, 0.1]}}})",
        "parameters[\"hair.length\"].uniform: expected [low, high]: finite numbers, low < high"},
       {R"({"parameters": {"hair.length": {"uniform": [-0.1, 0.1]}}})",
-       "with the parameters at their lowest bounds and choice[0] of each choice (its last when shorter): hair.length: expected"},
+       "with the parameters at their lowest bounds and choice[0] of each choice (its last when "
+       "shorter): hair.length: expected"},
       {R"({"parameters": {"hair.length": {"gamma": [1, 2]}}})",
        "parameters[\"hair.length\"]: expected a distribution"},
       {R"({"parameters": {"hair.curl": {"uniform": [1, 2]}}})",
@@ -210,15 +214,15 @@ TEST(BatchSpec, BadSpecsNameTheField) {
        "parameters[\"hair.curl_radius\"].normal.max: expected a number > min"},
       {R"({"operations": [{"cut": {"z": 0}, "probability": 2}]})",
        "operations[0].probability: expected a number in [0, 1], got 2"},
-      {R"({"operations": [{"cut": {"z": 0}, "wet": {}}]})",
-       "one operation per entry"},
+      {R"({"operations": [{"cut": {"z": 0}, "wet": {}}]})", "one operation per entry"},
       {R"({"operations": [{"cut": {"z": {"choice": ["low"]}}}]})", "operations[0].cut.z"},
       {R"({"views": {"orbit": {"count": 0}}})",
        "views.orbit.count: expected an integer between 1 and 1000, got 0"},
       {R"({"views": [{"position": [0, 1, 0]}]})", "views[0].camera"},
       {R"({"outputs": {"points_per_strand": 1}})",
        "outputs.points_per_strand: expected an integer between 2 and 65536, got 1"},
-      {R"({"outputs": {"formats": ["hair", "hair"]}})", "outputs.formats[1]: expected each format once"},
+      {R"({"outputs": {"formats": ["hair", "hair"]}})",
+       "outputs.formats[1]: expected each format once"},
       {R"({"outputs": {"images": {"width": 0}}})", "outputs.images.width"},
       {R"({"outptus": {}})", "outptus: unknown field (did you mean \"outputs\"?)"},
   };
@@ -269,9 +273,9 @@ TEST(BatchItems, RunWritesTheDocumentedFilesWithExplicitViews) {
   std::vector<std::string> names;
   for (const auto& file : result.files) names.push_back(file.first);
   const std::vector<std::string> expected = {
-      "hairstyle.json", "strands.hair", "strands.data", "rgb_00.png", "mask_00.png",
-      "orientation_00.png", "depth_00.npy", "rgb_01.png", "mask_01.png",
-      "orientation_01.png", "depth_01.npy", "metadata.json"};
+      "hairstyle.json", "strands.hair",       "strands.data", "rgb_00.png",
+      "mask_00.png",    "orientation_00.png", "depth_00.npy", "rgb_01.png",
+      "mask_01.png",    "orientation_01.png", "depth_01.npy", "metadata.json"};
   EXPECT_EQ(names, expected);
   const json metadata = json::parse(result.files.back().second);
   EXPECT_EQ(metadata["status"], "done");
@@ -327,9 +331,9 @@ TEST(BatchRange, ShardsCoverTheItemsOnceInBlocks) {
 }
 
 TEST(BatchStore, ConcurrentManifestAppendsStayWholeLines) {
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("ringlet_manifest_" + std::to_string(::getpid()) + ".jsonl"))
-          .string();
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("ringlet_manifest_" + std::to_string(::getpid()) + ".jsonl"))
+                               .string();
   std::filesystem::remove(path);
   const int threads = 4, lines = 50;
   // Long lines (> PIPE_BUF) so that an unlocked, split write would show.
@@ -365,8 +369,8 @@ TEST(BatchItems, ResampleSpacesPointsEquallyInArcLength) {
   // along z; 5 points 0.1 m apart along the path.
   HairCurves curves;
   curves.point_counts = {4, 2};
-  curves.points = {Vec3f(0, 0, 0), Vec3f(0.05f, 0, 0), Vec3f(0.3f, 0, 0), Vec3f(0.3f, 0, 0.1f),
-                   Vec3f(1, 1, 1), Vec3f(1, 1, 2)};
+  curves.points = {Vec3f(0, 0, 0),       Vec3f(0.05f, 0, 0), Vec3f(0.3f, 0, 0),
+                   Vec3f(0.3f, 0, 0.1f), Vec3f(1, 1, 1),     Vec3f(1, 1, 2)};
   curves.widths = {1e-4f, 1e-4f, 1e-4f, 5e-5f, 2e-4f, 0.0f};
   curves.colors = {Vec3f(1, 0, 0), Vec3f(0, 1, 0)};
   const HairCurves out = ResampleStrands(curves, 5);

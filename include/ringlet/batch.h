@@ -47,8 +47,8 @@ struct BatchParameter {
 /// distribution ({"uniform": [a, b]}, {"normal": {...}}, {"choice": [...]}).
 struct BatchOperation {
   double probability = 1.0;
-  std::string name;           ///< "curl", "wet", "dry", "cut" or "grow"
-  nlohmann::json templ;       ///< the operation's object, distributions in place
+  std::string name;      ///< "curl", "wet", "dry", "cut" or "grow"
+  nlohmann::json templ;  ///< the operation's object, distributions in place
   /// The distributions inside templ, by JSON pointer ("/length"), in document order.
   std::vector<std::pair<std::string, BatchDistribution>> distributions;
 };
@@ -69,7 +69,7 @@ struct BatchOutputs {
 
 /// A parsed, checked batch spec.
 struct BatchSpec {
-  std::string path;  ///< the spec file (for messages)
+  std::string path;       ///< the spec file (for messages)
   std::string directory;  ///< relative paths of inline bodies are relative to it
   /// The base hairstyles as documents, with their relative file paths (body, masters.file)
   /// made absolute, so that an item's hairstyle.json grooms from anywhere.
@@ -100,8 +100,8 @@ bool LoadBatchSpec(const std::string& path, BatchSpec* spec, std::string* error)
 /// One item, resolved: a pure function of (spec, index).
 struct BatchItem {
   std::int64_t index = 0;
-  std::string name;              ///< "item-000000007" (BatchItemName)
-  int base = 0;                  ///< which base hairstyle
+  std::string name;           ///< "item-000000007" (BatchItemName)
+  int base = 0;               ///< which base hairstyle
   nlohmann::json parameters;  ///< {"path": value, ...} and "operations": [...]
   nlohmann::json hairstyle;   ///< the resolved hairstyle document
 };
@@ -147,8 +147,8 @@ bool BatchItemDone(const std::string& outdir, const std::string& name);
 /// temporary folder outdir/.NAME.tmp.HOST.PID, then renamed to outdir/NAME. Returns 1 when
 /// written, 0 when the folder appeared meanwhile (another process finished the same item: the
 /// temporary is removed), -1 with one line in *error on failure (nothing left behind).
-int WriteBatchItem(const std::string& outdir, const BatchItem& item,
-                   const BatchItemResult& result, std::string* error);
+int WriteBatchItem(const std::string& outdir, const BatchItem& item, const BatchItemResult& result,
+                   std::string* error);
 
 /// One manifest line (JSON, no newline): {"item", "name", "base", "status"[, "error"]};
 /// deterministic (no times).
@@ -168,7 +168,8 @@ bool ParseItemRange(const std::string& text, std::int64_t count, BatchRange* ran
                     std::string* error);
 /// "K/N" -> shard K (0-based) of N; false with one line.
 bool ParseShard(const std::string& text, int* k, int* n, std::string* error);
-/// Shard k of n of range: the contiguous block [begin + floor(k L / n), begin + floor((k+1) L / n)).
+/// Shard k of n of range: the contiguous block [begin + floor(k L / n), begin + floor((k+1) L /
+/// n)).
 BatchRange ShardRange(const BatchRange& range, int k, int n);
 
 }  // namespace ringlet

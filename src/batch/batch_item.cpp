@@ -47,8 +47,7 @@ HairCurves ResampleStrands(const HairCurves& in, int n) {
   for (const std::uint32_t count : in.point_counts) {
     arc.assign(count, 0.0);
     for (std::uint32_t i = 1; i < count; ++i) {
-      arc[i] = arc[i - 1] +
-               (in.points[first + i] - in.points[first + i - 1]).cast<double>().norm();
+      arc[i] = arc[i - 1] + (in.points[first + i] - in.points[first + i - 1]).cast<double>().norm();
     }
     const double length = arc.back();
     std::uint32_t segment = 0;
@@ -92,17 +91,18 @@ std::string EncodeNpyFloat32(const std::vector<float>& values, int width, int he
 }
 
 // "05": view numbers with at least 2 digits.
-std::string ViewNumber(size_t v) {
-  return (v < 10 ? "0" : "") + std::to_string(v);
-}
+std::string ViewNumber(size_t v) { return (v < 10 ? "0" : "") + std::to_string(v); }
 
 }  // namespace
 
 const char* BatchStatusName(BatchItemResult::Status status) {
   switch (status) {
-    case BatchItemResult::Status::kDone: return "done";
-    case BatchItemResult::Status::kFlagged: return "flagged";
-    case BatchItemResult::Status::kFailed: return "failed";
+    case BatchItemResult::Status::kDone:
+      return "done";
+    case BatchItemResult::Status::kFlagged:
+      return "flagged";
+    case BatchItemResult::Status::kFailed:
+      return "failed";
   }
   return "failed";
 }
@@ -222,8 +222,8 @@ BatchItemResult RunBatchItem(const BatchSpec& spec, const BatchItem& item, int t
           return failed("view " + std::to_string(v) + ": " + why);
         }
         RenderScene scene;
-        if (!MakeRenderScene(view_settings, &strands, style.body, HairTypeEccentricity(style.hair_type),
-                             style.seed, &scene, &why)) {
+        if (!MakeRenderScene(view_settings, &strands, style.body,
+                             HairTypeEccentricity(style.hair_type), style.seed, &scene, &why)) {
           return failed("view " + std::to_string(v) + ": " + why);
         }
         RenderOptions options = view_settings.options;
@@ -287,34 +287,33 @@ BatchItemResult RunBatchItem(const BatchSpec& spec, const BatchItem& item, int t
                          0;
     result.status = flagged ? BatchItemResult::Status::kFlagged : BatchItemResult::Status::kDone;
     for (const auto& f : files) file_names.push_back(f.first);
-    json metadata = {
-        {"item", item.index},
-        {"name", item.name},
-        {"status", BatchStatusName(result.status)},
-        {"parameters", item.parameters},
-        {"groom",
-         {{"masters", summary.masters},
-          {"strands", summary.strands},
-          {"points", summary.points},
-          {"converged", summary.converged},
-          {"unconverged", summary.unconverged},
-          {"unstable", summary.unstable},
-          {"iterations", summary.iterations},
-          {"max_penetration", summary.max_penetration},
-          {"children_solved", summary.children_solved},
-          {"children_unconverged", summary.children_unconverged},
-          {"children_unstable", summary.children_unstable},
-          {"roots", roots}}},
-        {"style",
-         {{"operations", reports},
-          {"unconverged", styled_unconverged},
-          {"unstable", styled_unstable}}},
-        {"strands",
-         {{"strands", written.NumStrands()},
-          {"points", written.NumPoints()},
-          {"points_per_strand", spec.outputs.points_per_strand}}},
-        {"views", views},
-        {"files", file_names}};
+    json metadata = {{"item", item.index},
+                     {"name", item.name},
+                     {"status", BatchStatusName(result.status)},
+                     {"parameters", item.parameters},
+                     {"groom",
+                      {{"masters", summary.masters},
+                       {"strands", summary.strands},
+                       {"points", summary.points},
+                       {"converged", summary.converged},
+                       {"unconverged", summary.unconverged},
+                       {"unstable", summary.unstable},
+                       {"iterations", summary.iterations},
+                       {"max_penetration", summary.max_penetration},
+                       {"children_solved", summary.children_solved},
+                       {"children_unconverged", summary.children_unconverged},
+                       {"children_unstable", summary.children_unstable},
+                       {"roots", roots}}},
+                     {"style",
+                      {{"operations", reports},
+                       {"unconverged", styled_unconverged},
+                       {"unstable", styled_unstable}}},
+                     {"strands",
+                      {{"strands", written.NumStrands()},
+                       {"points", written.NumPoints()},
+                       {"points_per_strand", spec.outputs.points_per_strand}}},
+                     {"views", views},
+                     {"files", file_names}};
     files.emplace_back("metadata.json", metadata.dump(1) + "\n");
     result.files = std::move(files);
     result.timing = json{{"groom_seconds", groom_seconds},

@@ -102,25 +102,34 @@ bool IsVector3(const json& value) {
 
 const char* TypeText(FieldType type) {
   switch (type) {
-    case FieldType::kNumber: return "a finite number";
-    case FieldType::kInteger: return "an integer";
-    case FieldType::kString: return "a string";
-    case FieldType::kVector: return "an array of 3 finite numbers";
-    case FieldType::kBool: return "true or false";
+    case FieldType::kNumber:
+      return "a finite number";
+    case FieldType::kInteger:
+      return "an integer";
+    case FieldType::kString:
+      return "a string";
+    case FieldType::kVector:
+      return "an array of 3 finite numbers";
+    case FieldType::kBool:
+      return "true or false";
   }
   return "a value";
 }
 
 bool HasType(const json& value, FieldType type) {
   switch (type) {
-    case FieldType::kNumber: return value.is_number() && std::isfinite(value.get<double>());
+    case FieldType::kNumber:
+      return value.is_number() && std::isfinite(value.get<double>());
     case FieldType::kInteger: {
       std::int64_t i = 0;
       return Reader::ExactInteger(value, &i);
     }
-    case FieldType::kString: return value.is_string();
-    case FieldType::kVector: return IsVector3(value);
-    case FieldType::kBool: return value.is_boolean();
+    case FieldType::kString:
+      return value.is_string();
+    case FieldType::kVector:
+      return IsVector3(value);
+    case FieldType::kBool:
+      return value.is_boolean();
   }
   return false;
 }
@@ -135,8 +144,8 @@ bool IsDistribution(const json& value) {
 }
 
 // Reads a distribution at path for values of `type`.
-bool ParseDistribution(Reader& reader, const json& value, const std::string& path,
-                       FieldType type, BatchDistribution* out) {
+bool ParseDistribution(Reader& reader, const json& value, const std::string& path, FieldType type,
+                       BatchDistribution* out) {
   const char* expected =
       "a distribution {\"choice\": [...]}, {\"uniform\": [low, high]} or {\"normal\": {\"mean\", "
       "\"sd\", \"min\", \"max\"}}";
@@ -152,7 +161,8 @@ bool ParseDistribution(Reader& reader, const json& value, const std::string& pat
       return reader.Expected(member, "a non-empty array of at most 100000 values", body);
     }
     for (size_t i = 0; i < body.size(); ++i) {
-      if (!HasType(body[i], type)) return reader.Expected(Element(member, i), TypeText(type), body[i]);
+      if (!HasType(body[i], type))
+        return reader.Expected(Element(member, i), TypeText(type), body[i]);
       d.choices.push_back(body[i]);
     }
   } else {
@@ -185,9 +195,8 @@ bool ParseDistribution(Reader& reader, const json& value, const std::string& pat
         return false;
       }
       if (!(d.low < d.high)) {
-        return reader.Fail(Member(member, "max"), "expected a number > min (" +
-                                                      Show(body["min"]) + "), got " +
-                                                      Show(body["max"]));
+        return reader.Fail(Member(member, "max"), "expected a number > min (" + Show(body["min"]) +
+                                                      "), got " + Show(body["max"]));
       }
     }
   }
@@ -436,8 +445,8 @@ json ItemDocument(const BatchSpec& spec, int base, const json& values, const jso
                   std::uint64_t item_seed) {
   json doc = spec.bases[static_cast<size_t>(base)];
   if (spec.item_seeds) {
-    const bool explicit_masters = doc.contains("masters") && doc["masters"].is_object() &&
-                                  doc["masters"].contains("file");
+    const bool explicit_masters =
+        doc.contains("masters") && doc["masters"].is_object() && doc["masters"].contains("file");
     for (const char* path : kItemSeedPaths) {
       if (values.contains(path)) continue;
       if (explicit_masters && std::string(path) == "masters.seed") continue;
@@ -560,7 +569,8 @@ bool ParseBatchSpec(const nlohmann::json& document, const std::string& base_dire
         const std::string path = Member("parameters", item.key());
         if (field == nullptr) {
           std::string known;
-          for (const FieldPath& f : kFieldPaths) known += (known.empty() ? "" : ", ") + std::string(f.path);
+          for (const FieldPath& f : kFieldPaths)
+            known += (known.empty() ? "" : ", ") + std::string(f.path);
           reader.Fail(path, "not a hairstyle field a batch can vary (fields: " + known + ")");
           return fail();
         }
@@ -643,8 +653,7 @@ bool ParseBatchSpec(const nlohmann::json& document, const std::string& base_dire
         RenderSettings settings;
         std::string why;
         if (!ParseHairstyle(doc, base_directory, &style, &why) ||
-            !ParseStyleOperations(doc, &parsed, &why) ||
-            !ParseRenderMember(doc, &settings, &why)) {
+            !ParseStyleOperations(doc, &parsed, &why) || !ParseRenderMember(doc, &settings, &why)) {
           bool choices = false;
           for (const BatchParameter& p : s.parameters) {
             choices = choices || p.distribution.kind == BatchDistribution::Kind::kChoice;
@@ -659,7 +668,8 @@ bool ParseBatchSpec(const nlohmann::json& document, const std::string& base_dire
             where = std::string(" with the parameters at their ") +
                     (t % 2 == 0 ? "lowest" : "highest") + " bounds";
             if (choices) {
-              where += " and choice[" + std::to_string(t) + "] of each choice (its last when shorter)";
+              where +=
+                  " and choice[" + std::to_string(t) + "] of each choice (its last when shorter)";
             }
           }
           const std::string base = Element("bases", b);

@@ -48,8 +48,8 @@ bool BatchItemDone(const std::string& outdir, const std::string& name) {
   return fs::is_regular_file(fs::path(outdir) / name / "done", ec);
 }
 
-int WriteBatchItem(const std::string& outdir, const BatchItem& item,
-                   const BatchItemResult& result, std::string* error) {
+int WriteBatchItem(const std::string& outdir, const BatchItem& item, const BatchItemResult& result,
+                   std::string* error) {
   std::error_code ec;
   const fs::path final_path = fs::path(outdir) / item.name;
   const fs::path temporary = fs::path(outdir) / ("." + item.name + ".tmp." + HostName() + "." +
@@ -68,8 +68,8 @@ int WriteBatchItem(const std::string& outdir, const BatchItem& item,
     const int e = errno;
     fs::remove_all(temporary, ec);
     if (e == ENOTEMPTY || e == EEXIST) return 0;  // another process finished the same item
-    *error = DisplayPath(final_path.string()) + ": cannot rename the item folder into place: " +
-             std::strerror(e);
+    *error = DisplayPath(final_path.string()) +
+             ": cannot rename the item folder into place: " + std::strerror(e);
     return -1;
   }
   return 1;
@@ -123,8 +123,8 @@ bool ParseItemRange(const std::string& text, std::int64_t count, BatchRange* ran
   std::int64_t a = 0, b = 0;
   if (colon == std::string::npos || !ParseCount(text.substr(0, colon), &a) ||
       !ParseCount(text.substr(colon + 1), &b) || a >= b) {
-    *error = "--items: expected A:B with integers 0 <= A < B (items A to B - 1), got \"" + text +
-             "\"";
+    *error =
+        "--items: expected A:B with integers 0 <= A < B (items A to B - 1), got \"" + text + "\"";
     return false;
   }
   if (b > count) {
