@@ -179,9 +179,11 @@ BatchItemResult RunBatchItem(const BatchSpec& spec, const BatchItem& item, int t
     SetMelaninColours(settings, &strands);
 
     // Strand files.
-    const HairCurves written = spec.outputs.points_per_strand > 0
-                                   ? ResampleStrands(strands, spec.outputs.points_per_strand)
-                                   : strands;
+    HairCurves resampled;
+    if (spec.outputs.points_per_strand > 0) {
+      resampled = ResampleStrands(strands, spec.outputs.points_per_strand);
+    }
+    const HairCurves& written = spec.outputs.points_per_strand > 0 ? resampled : strands;
     json file_names = json::array();
     if (spec.outputs.hair) {
       std::string bytes;
