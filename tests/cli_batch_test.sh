@@ -275,6 +275,15 @@ if grep -q '"status": "flagged"' "$work/g/item-000000001/metadata.json" &&
   fail "flagged: metadata or manifest does not say flagged"
 fi
 
+# A folder in the way without a done marker is not taken for the item: the item fails, saying so.
+mkdir -p "$work/h/item-000000001" && touch "$work/h/item-000000001/junk"
+run batch "$work/specs/stiff.json" -o "$work/h" --items 1:2
+expect_rc "folder in the way" 2
+if grep -q 'item-000000001: exists without a done marker' "$work/stderr" &&
+   grep -q '"status":"failed"' "$work/h/manifest-items-1-2.jsonl"; then ok; else
+  fail "folder in the way: $(cat "$work/stderr")"
+fi
+
 # --- bad specs and arguments: one line naming the field, nothing written ----------------------------
 bad() {  # bad WHAT SUBSTRING SPEC_TEXT [ARGS...]
   local what=$1 substring=$2 text=$3

@@ -145,8 +145,9 @@ bool BatchItemDone(const std::string& outdir, const std::string& name);
 
 /// Writes the item folder all or nothing: its files, timing.json and last `done` into a
 /// temporary folder outdir/.NAME.tmp.HOST.PID, then renamed to outdir/NAME. Returns 1 when
-/// written, 0 when the folder appeared meanwhile (another process finished the same item: the
-/// temporary is removed), -1 with one line in *error on failure (nothing left behind).
+/// written, 0 when the folder appeared meanwhile with its `done` (another process finished the
+/// same item: the temporary is removed), -1 with one line in *error on failure, or when a folder
+/// without `done` is in the way (nothing is left behind).
 int WriteBatchItem(const std::string& outdir, const BatchItem& item, const BatchItemResult& result,
                    std::string* error);
 

@@ -67,7 +67,14 @@ int WriteBatchItem(const std::string& outdir, const BatchItem& item, const Batch
   if (std::rename(temporary.c_str(), final_path.c_str()) != 0) {
     const int e = errno;
     fs::remove_all(temporary, ec);
-    if (e == ENOTEMPTY || e == EEXIST) return 0;  // another process finished the same item
+    // Another process finished the same item: the same bytes are there.
+    if ((e == ENOTEMPTY || e == EEXIST) && BatchItemDone(outdir, item.name)) return 0;
+    if (e == ENOTEMPTY || e == EEXIST) {
+      *error = DisplayPath(final_path.string()) +
+               ": exists without a done marker (not written by ringlet batch); remove it to make "
+               "the item";
+      return -1;
+    }
     *error = DisplayPath(final_path.string()) +
              ": cannot rename the item folder into place: " + std::strerror(e);
     return -1;
