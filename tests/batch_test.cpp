@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "ringlet/hair_bsdf.h"
+#include "ringlet/hairstyle_json.h"
 #include "ringlet/render.h"
 
 namespace ringlet {
@@ -76,6 +77,26 @@ TEST(BatchSpec, ItemsArePureFunctionsOfSpecAndIndex) {
     }
     EXPECT_EQ(node, value) << path;
   }
+}
+
+TEST(BatchSpec, EachBaseBodyIsReadOnceAndSharedByItsItems) {
+  const BatchSpec spec = ParseOrDie(SpecDocument());
+  ASSERT_EQ(spec.bodies.size(), 2u);
+  for (const auto& body : spec.bodies) {
+    ASSERT_NE(body, nullptr);
+    ASSERT_EQ(body->spheres().size(), 1u);
+    EXPECT_EQ(body->spheres()[0].radius, 0.1);
+  }
+  // ParseHairstyle with a body takes it as it is, and still requires the member.
+  const BatchItem item = ResolveBatchItem(spec, 3);
+  Hairstyle style;
+  std::string error;
+  ASSERT_TRUE(ParseHairstyle(item.hairstyle, ".", spec.bodies[item.base], &style, &error)) << error;
+  EXPECT_EQ(style.body.get(), spec.bodies[item.base].get());
+  json no_body = item.hairstyle;
+  no_body.erase("body");
+  EXPECT_FALSE(ParseHairstyle(no_body, ".", spec.bodies[0], &style, &error));
+  EXPECT_NE(error.find("body: missing required field"), std::string::npos) << error;
 }
 
 TEST(BatchSpec, ItemSeedsDifferPerItemUnlessTurnedOff) {

@@ -10,11 +10,13 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "ringlet/body.h"
 #include "ringlet/hair_curves.h"
 
 namespace ringlet {
@@ -82,6 +84,9 @@ struct BatchSpec {
   /// Each item gets its own masters.seed, hair.seed and render.seed from (seed, index), unless
   /// the spec says "item_seeds": false or a parameter sets them.
   bool item_seeds = true;
+  /// Each base's body, read once when the spec is checked and shared by its items (the items
+  /// do not vary the body).
+  std::vector<std::shared_ptr<const Body>> bodies;
   /// The views: each a render "camera" object (docs/hairstyle-format.md, "render").
   std::vector<nlohmann::json> views;
   BatchOutputs outputs;

@@ -124,7 +124,10 @@ BatchItemResult RunBatchItem(const BatchSpec& spec, const BatchItem& item, int t
     std::vector<StyleOperation> operations;
     RenderSettings settings;
     std::string why;
-    if (!ParseHairstyle(item.hairstyle, spec.directory, &style, &why) ||
+    // The base's body as read by the spec check (null for a spec made by hand: read it).
+    const std::shared_ptr<const Body> body =
+        static_cast<size_t>(item.base) < spec.bodies.size() ? spec.bodies[item.base] : nullptr;
+    if (!ParseHairstyle(item.hairstyle, spec.directory, body, &style, &why) ||
         !ParseStyleOperations(item.hairstyle, &operations, &why) ||
         !ParseRenderMember(item.hairstyle, &settings, &why)) {
       return failed("hairstyle: " + why);

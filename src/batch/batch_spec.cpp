@@ -652,7 +652,9 @@ bool ParseBatchSpec(const nlohmann::json& document, const std::string& base_dire
         std::vector<StyleOperation> parsed;
         RenderSettings settings;
         std::string why;
-        if (!ParseHairstyle(doc, base_directory, &style, &why) ||
+        // The base's body is read by its first test and shared from then on.
+        const std::shared_ptr<const Body> body = t == 0 ? nullptr : s.bodies[b];
+        if (!ParseHairstyle(doc, base_directory, body, &style, &why) ||
             !ParseStyleOperations(doc, &parsed, &why) || !ParseRenderMember(doc, &settings, &why)) {
           bool choices = false;
           for (const BatchParameter& p : s.parameters) {
@@ -678,6 +680,7 @@ bool ParseBatchSpec(const nlohmann::json& document, const std::string& base_dire
           reader.Fail(name + where, why);
           return fail();
         }
+        if (t == 0) s.bodies.push_back(style.body);
       }
     }
     *spec = std::move(s);
