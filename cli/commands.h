@@ -52,6 +52,9 @@ Command AddConvertCommand(CLI::App* parent);
 /// `ringlet invert TARGET -o OUTDIR/`: rest shapes that hold target strands (inverse statics).
 Command AddInvertCommand(CLI::App* parent);
 
+/// `ringlet batch SPEC -o OUTDIR [--shard K/N] [--items A:B]`: a dataset of grooms (batch.h).
+Command AddBatchCommand(CLI::App* parent);
+
 /// Prints "ringlet: <kind>: <message>" as exactly one line on stderr: control characters in the
 /// message (a newline in a file name, say) are shown as '?'.
 inline void PrintDiagnostic(const char* kind, const std::string& message) {

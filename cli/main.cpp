@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
       ringlet::cli::AddRenderCommand(&app),
       ringlet::cli::AddConvertCommand(&app),
       ringlet::cli::AddInvertCommand(&app),
+      ringlet::cli::AddBatchCommand(&app),
   };
 
   // CLI11 would report an unknown command word as "A subcommand is required": name it instead.

@@ -1,6 +1,7 @@
 // Hairstyle files: the JSON description of a full head of hair (docs/hairstyle-format.md).
 #pragma once
 
+#include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
@@ -17,6 +18,14 @@ namespace ringlet {
 /// and returns false. Never throws.
 bool ParseHairstyle(const nlohmann::json& document, const std::string& base_directory,
                     Hairstyle* style, std::string* error);
+
+/// ParseHairstyle with the body already read (shared, not copied): the document's "body" member
+/// must be present but is not read again, and body stands for it (body null: read it as
+/// ParseHairstyle does). For many documents over one base that differ in other fields (`ringlet
+/// batch`'s items: a head mesh takes seconds to read). The caller guarantees that body is what
+/// the member describes. Never throws.
+bool ParseHairstyle(const nlohmann::json& document, const std::string& base_directory,
+                    std::shared_ptr<const Body> body, Hairstyle* style, std::string* error);
 
 /// The optional "operations" list of a hairstyle document (docs/hairstyle-format.md,
 /// "operations"): the styling operations that `ringlet style` applies, in order, after grooming.

@@ -24,6 +24,13 @@ bool WritePng(const std::string& path, const Image& image, double exposure, bool
 /// (WriteFilesAtomically). Returns false with a one-line message (no path).
 bool EncodePng(const Image& image, double exposure, std::string* png, std::string* error);
 
+/// The bytes of a PNG file of 8-bit codes stored as they are (label maps, docs/batch.md): no
+/// exposure, no transfer function and no colour chunk; channels 1 (grey) or 3 (RGB), codes
+/// row-major (top row first, channels interleaved), width x height x channels of them. Returns
+/// false with a one-line message.
+bool EncodePngCodes(const std::vector<unsigned char>& codes, int width, int height, int channels,
+                    std::string* png, std::string* error);
+
 /// Reads an 8-bit RGB or RGBA PNG into linear values (the inverse sRGB transfer function;
 /// alpha dropped). Returns false with a one-line message naming the file.
 bool ReadPng(const std::string& path, Image* image, std::string* error);

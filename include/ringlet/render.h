@@ -186,4 +186,32 @@ struct RenderStats {
 bool Render(const RenderScene& scene, const RenderOptions& options, Image* image,
             RenderStats* stats, std::string* error);
 
+/// Per-pixel labels of a view, the ground truth hair reconstruction methods train on
+/// (docs/batch.md, "Labels"): one ray through each pixel's centre, its first hit.
+struct RenderLabels {
+  int width = 0;
+  int height = 0;
+  /// 1 where the first hit is a hair fibre, 0 elsewhere (body or background); row-major, top
+  /// row first, as Image.
+  std::vector<std::uint8_t> hair;
+  /// Distance (m) of the first hit (hair or body) along the camera's forward axis (z-depth, the
+  /// convention of depth maps), 0 where the ray meets nothing.
+  std::vector<float> depth;
+  /// Hair pixels: the fibre's tangent at the hit, root to tip, projected on the image plane and
+  /// normalized, in image axes (x to the right, y up); (0, 0) elsewhere and where the fibre
+  /// points along the ray (projected length below 1e-6).
+  std::vector<Eigen::Vector2f> direction;
+};
+
+/// The labels of the scene's camera for a width x height image (options: width, height and
+/// threads are used; the labels do not depend on the threads). Fibres are traced at least
+/// min_width_pixels wide: each point's width w becomes max(w, min_width_pixels x the footprint of
+/// a pixel at the point's depth z along the camera's forward axis, 2 z tan(fov / 2) / height),
+/// so that the mask shows every strand as a line of at least that many pixels, as strand
+/// rasterizers draw them (a 70-um fibre covers a few percent of a millimetre-wide pixel and a
+/// single ray would mostly miss it); 0 traces the true widths. Checks the scene and options as
+/// Render does. Returns false with one line in error.
+bool RenderLabelMaps(const RenderScene& scene, const RenderOptions& options,
+                     double min_width_pixels, RenderLabels* labels, std::string* error);
+
 }  // namespace ringlet

@@ -673,8 +673,9 @@ bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOper
   return true;
 }
 
+// With body not null, the "body" member must be present but is not read: body stands for it.
 bool ParseHairstyleDocument(Reader& reader, const json& document, const std::string& base,
-                            Hairstyle* out) {
+                            std::shared_ptr<const Body> body, Hairstyle* out) {
   if (!document.is_object()) {
     return reader.Expected("", "a JSON object {\"body\": ..., \"scalp\": ..., ...} at the top level",
                            document);
@@ -695,8 +696,11 @@ bool ParseHairstyleDocument(Reader& reader, const json& document, const std::str
     return reader.Expected("description", "a string", *description);
   }
   Hairstyle style;
-  std::shared_ptr<const Body> body;
-  if (!internal::ParseBodyMember(reader, document, base, true, &body)) return false;
+  if (body == nullptr) {
+    if (!internal::ParseBodyMember(reader, document, base, true, &body)) return false;
+  } else if (!document.contains("body")) {
+    return reader.Missing("body", "a body file name or a body object");
+  }
   style.body = body;
   if (!ParseScalp(reader, document, *body, &style) || !ParseMasters(reader, document, base, &style) ||
       !ParseComb(reader, document, &style) || !ParseHair(reader, document, &style) ||
@@ -715,9 +719,16 @@ bool ParseHairstyleDocument(Reader& reader, const json& document, const std::str
 
 bool ParseHairstyle(const nlohmann::json& document, const std::string& base_directory,
                     Hairstyle* style, std::string* error) {
+  return ParseHairstyle(document, base_directory, nullptr, style, error);
+}
+
+bool ParseHairstyle(const nlohmann::json& document, const std::string& base_directory,
+                    std::shared_ptr<const Body> body, Hairstyle* style, std::string* error) {
   Reader reader;
   try {
-    if (ParseHairstyleDocument(reader, document, base_directory, style)) return true;
+    if (ParseHairstyleDocument(reader, document, base_directory, std::move(body), style)) {
+      return true;
+    }
   } catch (const std::exception& e) {
     reader.Fail("", std::string("cannot read the hairstyle: ") + e.what());
   }

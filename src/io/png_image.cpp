@@ -65,8 +65,9 @@ void ReadBytes(png_structp png, png_bytep out, png_size_t length) {
 
 // Encodes 8-bit RGB rows (top first) into *bytes with an sRGB chunk (plus the gAMA and cHRM
 // values the PNG specification, section 11.3.3.5, recommends alongside it for old readers).
+// With srgb false and grey true: 8-bit grey rows, stored as they are (label maps), no colour chunk.
 bool EncodeRgb8(png_bytep* rows, int width, int height, std::string* bytes,
-                PngErrorState* state) {
+                PngErrorState* state, bool srgb = true, bool grey = false) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, state, OnPngError,
                                             OnPngWarning);
   if (!png) return false;
@@ -81,9 +82,9 @@ bool EncodeRgb8(png_bytep* rows, int width, int height, std::string* bytes,
   }
   png_set_write_fn(png, bytes, AppendBytes, FlushNothing);
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
-               PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-               PNG_FILTER_TYPE_DEFAULT);
-  png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+               grey ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  if (srgb) png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
   png_set_rows(png, info, rows);
   png_write_png(png, info, PNG_TRANSFORM_IDENTITY, nullptr);
   png_destroy_write_struct(&png, &info);
@@ -159,6 +160,36 @@ bool EncodePng(const Image& image, double exposure, std::string* png, std::strin
   std::string bytes;
   PngErrorState state;
   if (!EncodeRgb8(rows.data(), image.width, image.height, &bytes, &state)) {
+    return fail(std::string("cannot encode PNG: ") +
+                (state.message[0] ? state.message : "libpng could not start"));
+  }
+  *png = std::move(bytes);
+  return true;
+}
+
+bool EncodePngCodes(const std::vector<unsigned char>& codes, int width, int height, int channels,
+                    std::string* png, std::string* error) {
+  const auto fail = [&](const std::string& why) {
+    if (error) *error = why;
+    return false;
+  };
+  if (width < 1 || height < 1 || (channels != 1 && channels != 3)) {
+    return fail("cannot write " + std::to_string(width) + " x " + std::to_string(height) +
+                " pixels of " + std::to_string(channels) +
+                " channels (expected at least 1 x 1, 1 or 3 channels)");
+  }
+  const size_t row = static_cast<size_t>(width) * channels;
+  if (codes.size() != row * height) {
+    return fail("label image has " + std::to_string(codes.size()) + " codes, expected " +
+                std::to_string(row * height));
+  }
+  // libpng takes non-const rows; it only reads them while writing.
+  std::vector<unsigned char> copy = codes;
+  std::vector<png_bytep> rows(static_cast<size_t>(height));
+  for (int y = 0; y < height; ++y) rows[static_cast<size_t>(y)] = copy.data() + static_cast<size_t>(y) * row;
+  std::string bytes;
+  PngErrorState state;
+  if (!EncodeRgb8(rows.data(), width, height, &bytes, &state, false, channels == 1)) {
     return fail(std::string("cannot encode PNG: ") +
                 (state.message[0] ? state.message : "libpng could not start"));
   }

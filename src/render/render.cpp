@@ -621,4 +621,70 @@ bool Render(const RenderScene& scene, const RenderOptions& options, Image* image
   return true;
 }
 
+bool RenderLabelMaps(const RenderScene& scene, const RenderOptions& options,
+                     double min_width_pixels, RenderLabels* labels, std::string* error) {
+  using namespace render;
+  std::string why;
+  PinholeCamera camera;
+  if (labels == nullptr) {
+    if (error != nullptr) *error = "labels: expected a non-null output";
+    return false;
+  }
+  if (!CheckInputs(scene, options, &camera, &why)) {
+    if (error != nullptr) *error = why;
+    return false;
+  }
+  if (!(min_width_pixels >= 0.0) || !std::isfinite(min_width_pixels)) {
+    if (error != nullptr) *error = "min_width_pixels: expected a finite number >= 0";
+    return false;
+  }
+  // The traced hair: widths of at least min_width_pixels pixel footprints at each point's depth.
+  HairCurves widened;
+  const HairCurves* hair = scene.hair;
+  if (hair != nullptr && min_width_pixels > 0.0) {
+    widened = *hair;
+    const double per_depth = min_width_pixels * 2.0 * camera.half_height / camera.height;
+    for (size_t i = 0; i < widened.points.size(); ++i) {
+      const double z = (widened.points[i].cast<double>() - camera.position).dot(camera.forward);
+      widened.widths[i] = std::max(widened.widths[i], static_cast<float>(per_depth * std::abs(z)));
+    }
+    hair = &widened;
+  }
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  std::unique_ptr<EmbreeScene> embree;
+  arena.execute([&] { embree = EmbreeScene::Create(hair, scene.body.get(), &why); });
+  if (embree == nullptr) {
+    if (error != nullptr) *error = why;
+    return false;
+  }
+  const int width = options.width;
+  const int height = options.height;
+  const size_t pixels = static_cast<size_t>(width) * height;
+  RenderLabels out;
+  out.width = width;
+  out.height = height;
+  out.hair.assign(pixels, 0);
+  out.depth.assign(pixels, 0.0f);
+  out.direction.assign(pixels, Eigen::Vector2f::Zero());
+  // Rows in parallel; every pixel is one ray, written only by its row.
+  arena.execute([&] {
+    tbb::parallel_for(0, height, [&](int y) {
+      for (int x = 0; x < width; ++x) {
+        const size_t pixel = static_cast<size_t>(y) * width + x;
+        const Vec3 dir = camera.Direction(x + 0.5, y + 0.5);
+        const SurfaceHit hit = embree->Intersect(camera.position, dir, 0.0, kInfinity, RayIgnore{});
+        if (hit.kind == HitKind::kNone) continue;
+        out.depth[pixel] = static_cast<float>(hit.t * dir.dot(camera.forward));
+        if (hit.kind != HitKind::kHair) continue;
+        out.hair[pixel] = 1;
+        const Eigen::Vector2d d(hit.tangent.dot(camera.right), hit.tangent.dot(camera.up));
+        const double n = d.norm();
+        if (n >= 1e-6) out.direction[pixel] = (d / n).cast<float>();
+      }
+    });
+  });
+  *labels = std::move(out);
+  return true;
+}
+
 }  // namespace ringlet

@@ -1,0 +1,250 @@
+// `ringlet batch SPEC -o OUTDIR [--shard K/N] [--items A:B]`: a dataset of grooms (docs/batch.md).
+// The library resolves and runs each item (batch.h); this command only picks its share of the
+// items, skips those done, appends manifest lines and prints progress and a summary.
+//
+// Exit codes: 0 every item of the share is done (or was already), 2 some item failed or was
+// flagged (the others are written), 1 bad usage or spec (nothing is written). SIGINT / SIGTERM:
+// the item being run is abandoned (nothing of it is written), the summary printed, and the
+// process ends by the same signal; a rerun continues where it stopped.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <system_error>
+
+#include "commands.h"
+#include "format.h"
+#include "outputs.h"
+#include "ringlet/atomic_file.h"
+#include "ringlet/batch.h"
+
+namespace ringlet::cli {
+namespace {
+
+struct BatchArgs {
+  std::string spec_path;
+  std::string output_dir;
+  std::string shard;
+  std::string items;
+  bool plan = false;
+  bool quiet = false;
+  int threads = 0;
+};
+
+// Set by SIGINT / SIGTERM (async-signal-safe: a lock-free atomic store).
+std::atomic<bool> g_stop{false};
+volatile std::sig_atomic_t g_signal = 0;
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+extern "C" void OnStopSignal(int signal) {
+  g_signal = signal;
+  g_stop.store(true);
+}
+
+void InstallStopHandlers() {
+  struct sigaction action {};
+  action.sa_handler = OnStopSignal;
+  sigemptyset(&action.sa_mask);
+  for (const int signal : {SIGINT, SIGTERM}) {
+    struct sigaction old {};
+    sigaction(signal, nullptr, &old);
+    if (old.sa_handler == SIG_IGN) continue;  // nohup: stays ignored
+    sigaction(signal, &action, nullptr);
+  }
+}
+
+// The manifest of a share: manifest-all.jsonl, manifest-items-A-B.jsonl,
+// manifest-shard-K-of-N.jsonl or manifest-items-A-B-shard-K-of-N.jsonl.
+std::string ManifestName(const BatchArgs& args, const BatchRange& items, int k, int n) {
+  std::string name = "manifest";
+  if (!args.items.empty())
+    name += Format("-items-%lld-%lld", static_cast<long long>(items.begin),
+                   static_cast<long long>(items.end));
+  if (!args.shard.empty()) name += Format("-shard-%d-of-%d", k, n);
+  if (args.items.empty() && args.shard.empty()) name += "-all";
+  return name + ".jsonl";
+}
+
+// The spec's own text as OUTDIR/spec.json, so that a dataset says what made it; a directory
+// holding another spec's dataset is refused (its items would be mixed with ours).
+bool RecordSpec(const std::string& outdir, const std::string& spec_path, std::string* error) {
+  std::string text;
+  if (!ReadFile(spec_path, &text, error)) return false;
+  const std::string copy = (std::filesystem::path(outdir) / "spec.json").string();
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    std::string existing, why;
+    std::error_code ec;
+    if (std::filesystem::exists(copy, ec)) {
+      if (!ReadFile(copy, &existing, error)) return false;
+      if (existing != text) {
+        *error = DisplayPath(outdir) + ": holds the dataset of another spec (its spec.json " +
+                 "differs from " + DisplayPath(spec_path) + "); give another output directory";
+        return false;
+      }
+      return true;
+    }
+    if (WriteFileAtomically(copy, text, false, &why)) return true;
+    // Another process wrote it meanwhile: compare again.
+    if (attempt == 1) {
+      *error = why;
+      return false;
+    }
+  }
+  return true;
+}
+
+int RunPlan(const BatchSpec& spec, const BatchRange& range) {
+  for (std::int64_t k = range.begin; k < range.end; ++k) {
+    const BatchItem item = ResolveBatchItem(spec, k);
+    nlohmann::json line = {{"item", item.index}, {"name", item.name}};
+    for (const auto& member : item.parameters.items()) line[member.key()] = member.value();
+    std::printf("%s\n", line.dump().c_str());
+  }
+  return kExitSuccess;
+}
+
+int RunBatch(const BatchArgs& args) {
+  std::string error;
+  BatchSpec spec;
+  if (!LoadBatchSpec(args.spec_path, &spec, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  BatchRange items{0, spec.count};
+  if (!args.items.empty() && !ParseItemRange(args.items, spec.count, &items, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  int k = 0, n = 1;
+  if (!args.shard.empty() && !ParseShard(args.shard, &k, &n, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  const BatchRange range = ShardRange(items, k, n);
+  if (args.plan) return RunPlan(spec, range);
+  if (args.output_dir.empty()) {
+    PrintError("--output is required (or --plan to print the items without running them)");
+    return kExitBadInput;
+  }
+  std::error_code ec;
+  const std::filesystem::path outdir(args.output_dir);
+  if (std::filesystem::exists(outdir, ec) && !std::filesystem::is_directory(outdir, ec)) {
+    PrintError(DisplayPath(args.output_dir) + ": exists and is not a directory");
+    return kExitBadInput;
+  }
+  std::filesystem::create_directories(outdir, ec);
+  if (ec) {
+    PrintError(DisplayPath(args.output_dir) + ": cannot create the directory: " + ec.message());
+    return kExitBadInput;
+  }
+  if (!RecordSpec(args.output_dir, args.spec_path, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  const std::string manifest = (outdir / ManifestName(args, items, k, n)).string();
+
+  InstallStopHandlers();
+  const auto start = std::chrono::steady_clock::now();
+  const std::int64_t total = range.end - range.begin;
+  long done = 0, flagged = 0, failed = 0, skipped = 0, run = 0;
+  for (std::int64_t index = range.begin; index < range.end && !g_stop.load(); ++index) {
+    const std::string name = BatchItemName(index);
+    const std::int64_t position = index - range.begin + 1;
+    if (BatchItemDone(args.output_dir, name)) {
+      ++skipped;
+      continue;
+    }
+    const BatchItem item = ResolveBatchItem(spec, index);
+    const auto item_start = std::chrono::steady_clock::now();
+    BatchItemResult result = RunBatchItem(spec, item, args.threads, &g_stop);
+    if (g_stop.load()) break;  // abandoned: nothing of it is written or recorded
+    if (result.status != BatchItemResult::Status::kFailed) {
+      const int written = WriteBatchItem(args.output_dir, item, result, &error);
+      if (written == 0) {
+        ++skipped;  // another process finished it meanwhile
+        continue;
+      }
+      if (written < 0) {
+        result.status = BatchItemResult::Status::kFailed;
+        result.error = error;
+      }
+    }
+    ++run;
+    switch (result.status) {
+      case BatchItemResult::Status::kDone:
+        ++done;
+        break;
+      case BatchItemResult::Status::kFlagged:
+        ++flagged;
+        break;
+      case BatchItemResult::Status::kFailed:
+        ++failed;
+        break;
+    }
+    if (!AppendManifestLine(manifest, BatchManifestLine(item, result), &error)) {
+      PrintWarning(error);
+    }
+    if (!args.quiet) {
+      const double elapsed = SecondsSince(start);
+      const double rate = run / elapsed;
+      const std::int64_t left = total - position;
+      std::printf("%s %s in %s (%lld/%lld; %.3g items/s, about %s left)\n", name.c_str(),
+                  BatchStatusName(result.status), FormatSeconds(SecondsSince(item_start)).c_str(),
+                  static_cast<long long>(position), static_cast<long long>(total), rate,
+                  FormatSeconds(static_cast<double>(left) / rate).c_str());
+      std::fflush(stdout);
+      if (result.status == BatchItemResult::Status::kFailed) {
+        PrintWarning(name + ": " + result.error);
+      }
+    }
+  }
+  const bool stopped = g_stop.load();
+  if (!args.quiet) {
+    std::printf(
+        "batch: %lld items [%lld, %lld) of %lld: %ld done, %ld flagged, %ld failed, %ld "
+        "skipped%s in %s -> %s\n",
+        static_cast<long long>(total), static_cast<long long>(range.begin),
+        static_cast<long long>(range.end), static_cast<long long>(spec.count), done, flagged,
+        failed, skipped, stopped ? " (stopped by a signal)" : "",
+        FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
+    std::fflush(stdout);
+  }
+  if (stopped) {
+    // End by the signal, as an uncaught one would (exit status 128 + signal in a shell).
+    const int signal = g_signal != 0 ? static_cast<int>(g_signal) : SIGTERM;
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+  }
+  return failed + flagged > 0 ? kExitUnsolved : kExitSuccess;
+}
+
+}  // namespace
+
+Command AddBatchCommand(CLI::App* parent) {
+  auto args = std::make_shared<BatchArgs>();
+  CLI::App* app = parent->add_subcommand(
+      "batch",
+      "Make a dataset of grooms from a batch spec (docs/batch.md): each item in its own folder "
+      "of OUTDIR, written all or nothing; items already done are skipped. Exit code 0 when every "
+      "item of the share is done, 2 when some failed or were flagged (unconverged or unstable "
+      "masters), 1 on bad usage or spec (nothing is written).");
+  app->add_option("spec", args->spec_path, "Batch spec (JSON, see docs/batch.md)")->required();
+  app->add_option("-o,--output", args->output_dir, "Output directory (created if missing)");
+  app->add_option("--shard", args->shard,
+                  "Run shard K of N (0 <= K < N): the K-th of N contiguous blocks of the items");
+  app->add_option("--items", args->items, "Run items A to B - 1 only (A:B)");
+  app->add_flag("--plan", args->plan,
+                "Print the resolved items (one JSON line each) without running them");
+  app->add_option("--threads", args->threads,
+                  "Worker threads per item (default 0: all cores); the files do not depend on it")
+      ->check(CLI::Range(0, 1024));
+  app->add_flag("-q,--quiet", args->quiet,
+                "Print no progress or summary (errors still go to stderr)");
+  return Command{app, [args] { return RunBatch(*args); }};
+}
+
+}  // namespace ringlet::cli
