@@ -94,18 +94,21 @@ int Main(int argc, char** argv) {
   int step = 1, threads = 0;
   std::string phases = "fit,invert,verify,naive";
   std::string method = "auto";
+  std::string dump;  // per strand: segments, fit max and RMS distance (m), one line each
   for (int a = 3; a + 1 < argc; a += 2) {
     if (!std::strcmp(argv[a], "--step")) step = std::max(1, std::atoi(argv[a + 1]));
     if (!std::strcmp(argv[a], "--threads")) threads = std::atoi(argv[a + 1]);
     if (!std::strcmp(argv[a], "--phases")) phases = argv[a + 1];
     if (!std::strcmp(argv[a], "--method")) method = argv[a + 1];
+    if (!std::strcmp(argv[a], "--dump")) dump = argv[a + 1];
   }
   const auto has = [&phases](const char* p) { return phases.find(p) != std::string::npos; };
   std::string error;
 
   Clock body_clock;
-  auto body = std::make_shared<Body>();
-  if (!LoadBody(argv[2], body.get(), &error)) {
+  // "-": no body (the fit alone, or inversion without contact).
+  std::shared_ptr<Body> body = std::strcmp(argv[2], "-") ? std::make_shared<Body>() : nullptr;
+  if (body && !LoadBody(argv[2], body.get(), &error)) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 1;
   }
@@ -138,6 +141,13 @@ int Main(int argc, char** argv) {
     return 1;
   }
   if (has("fit")) fit_clock.Report("fit", count);
+  if (!dump.empty()) {
+    FILE* f = std::fopen(dump.c_str(), "w");
+    for (const HelixFit& fit : fits) {
+      std::fprintf(f, "%d %.17g %.17g\n", fit.NumSegments(), fit.max_distance, fit.rms_distance);
+    }
+    std::fclose(f);
+  }
   long segments = 0;
   std::vector<StrandModel> models(count);
   std::vector<VecX> targets(count);
