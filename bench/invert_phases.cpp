@@ -10,7 +10,11 @@
 //   verify   the same with the verification (Kirchhoff residual, forward solve from the target);
 //            the phase's time is the difference
 //   naive    the same with the naive rest shape's forward solve too (the default of invert)
+//   compare  verification and naive solve by L-BFGS and by Newton, strand by strand: how far
+//            apart their equilibria are (the change of InverseOptions::solver, docs/benchmarks.md)
 //
+// BODY "-": no body. --method auto|lbfgs|newton|bfgs: the forward solves' method (default: the
+// InverseOptions default, Newton). --dump FILE: every fit's segment count and distances.
 // Prints, per phase, wall and process CPU seconds (user + system, all threads) and per-strand
 // counters (forward and naive iterations, unstable, unconverged, fallbacks).
 //
@@ -87,13 +91,14 @@ void Counters(const char* phase, const std::vector<InverseResult>& results) {
 
 int Main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: %s TARGET.hair BODY.json [--step K] [--threads N] "
-                         "[--phases fit,invert,verify,naive]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s TARGET.hair BODY.json|- [--step K] [--threads N] "
+                         "[--phases fit,invert,verify,naive,compare] [--method M] [--dump FILE]\n",
+                 argv[0]);
     return 1;
   }
   int step = 1, threads = 0;
   std::string phases = "fit,invert,verify,naive";
-  std::string method = "auto";
+  std::string method;  // empty: InverseOptions' default
   std::string dump;  // per strand: segments, fit max and RMS distance (m), one line each
   for (int a = 3; a + 1 < argc; a += 2) {
     if (!std::strcmp(argv[a], "--step")) step = std::max(1, std::atoi(argv[a + 1]));
@@ -167,6 +172,7 @@ int Main(int argc, char** argv) {
   InverseOptions options;
   options.verify = false;
   options.naive = false;
+  if (method == "auto") options.solver.method = Method::kAuto;
   if (method == "newton") options.solver.method = Method::kNewton;
   if (method == "lbfgs") options.solver.method = Method::kLbfgs;
   if (method == "bfgs") options.solver.method = Method::kBfgs;
