@@ -60,6 +60,7 @@ struct InvertArgs {
   int threads = 0;
   int points_per_segment = 0;  // 0: at the target's own points (polylines), else k per segment
   bool no_support_forces = false;  // contact forces as unknowns off (docs/inverse.md)
+  bool no_naive = false;  // skip the naive rest shape's forward solve and naive.hair
   bool force = false;
   bool quiet = false;
 };
@@ -264,6 +265,7 @@ int RunInvert(const InvertArgs& args) {
   const auto invert_start = std::chrono::steady_clock::now();
   InverseOptions inverse_options;
   inverse_options.contact_forces = !args.no_support_forces;
+  inverse_options.naive = !args.no_naive;
   ProgressBar invert_bar("inverting", !args.quiet);
   const std::vector<InverseResult> results =
       InvertStrands(models, targets, inverse_options, args.threads,
@@ -280,6 +282,7 @@ int RunInvert(const InvertArgs& args) {
     inverted[i].contact.support_offsets = r.support_offsets;
     for (auto [curves, q] : {std::pair{&equilibrium, &r.equilibrium},
                              std::pair{&naive, &r.naive_equilibrium}}) {
+      if (curves == &naive && args.no_naive) continue;
       // At the target's points (a point per target point, at its arc length on the fitted
       // curve), or k points per helical segment (--points-per-segment; exact targets: 4).
       const std::vector<Vec3> points =
@@ -305,12 +308,20 @@ int RunInvert(const InvertArgs& args) {
   const double max_dev_l = summary["max_deviation_per_length"].get<double>();
   const double max_naive = summary["naive_max_deviation"].get<double>();
   const double max_naive_l = summary["naive_max_deviation_per_length"].get<double>();
+  summary["naive"] = !args.no_naive;
+  if (args.no_naive) {
+    // No naive solve: no naive deviations (0 would read as "the naive rest shape holds").
+    summary.erase("naive_max_deviation");
+    summary.erase("naive_max_deviation_per_length");
+    for (auto& strand : summary["strand_results"]) strand.erase("naive_deviation");
+  }
   std::vector<std::pair<std::string, std::string>> files;
   files.emplace_back("rest_shapes.json", SceneToString(inverted));
   HairFileOptions hair_options;
   hair_options.units_per_metre = args.units_per_metre;
   for (auto [name, curves] : {std::pair{"equilibrium.hair", &equilibrium},
                               std::pair{"naive.hair", &naive}}) {
+    if (curves == &naive && args.no_naive) continue;
     std::string bytes;
     if (!EncodeHairFile(*curves, hair_options, &bytes, &error)) {
       PrintError(std::string(name) + ": " + error);
@@ -325,12 +336,21 @@ int RunInvert(const InvertArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
+  if (args.no_naive) {
+    // A naive.hair of an earlier run (only there with --force: CheckOutputDirectory) would be
+    // read as this run's.
+    std::error_code ec;
+    std::filesystem::remove(std::filesystem::path(args.output_dir) / "naive.hair", ec);
+  }
   if (!args.quiet) {
+    const std::string naive_text =
+        args.no_naive ? std::string(" (naive solve skipped)")
+                      : Format(", with the naive ones %.3g m (%.3g L)", max_naive, max_naive_l);
     std::printf(
         "inverted %d strands: fit max %.3g m (%.3g L), deviation with the inverted rest shapes "
-        "max %.3g m (%.3g L), with the naive ones %.3g m (%.3g L); %d unstable, %d unconverged; "
-        "fit %s, inversion %s, total %s -> %s\n",
-        n, max_fit, max_fit_l, max_dev, max_dev_l, max_naive, max_naive_l, unstable, unconverged,
+        "max %.3g m (%.3g L)%s; %d unstable, %d unconverged; fit %s, inversion %s, total %s -> "
+        "%s\n",
+        n, max_fit, max_fit_l, max_dev, max_dev_l, naive_text.c_str(), unstable, unconverged,
         FormatSeconds(fit_seconds).c_str(), FormatSeconds(invert_seconds).c_str(),
         FormatSeconds(SecondsSince(start)).c_str(), args.output_dir.c_str());
     std::fflush(stdout);
@@ -392,6 +412,10 @@ Command AddInvertCommand(CLI::App* parent) {
   app->add_flag("--no-support-forces", args->no_support_forces,
                 "Do not treat the body's contact forces as unknowns: use the penalty forces the "
                 "forward model gives at the target (zero unless it enters the clearance layer)");
+  app->add_flag("--no-naive", args->no_naive,
+                "Skip the forward solve of the naive rest shape (rest = target), the comparison "
+                "that shows the sag: no naive.hair, no naive deviations in summary.json (a "
+                "quarter of the inversion's time on hair lying on a body)");
   app->add_flag("--force", args->force, "Overwrite existing output files");
   app->add_option("--threads", args->threads, "Worker threads (default 0: all cores)")
       ->check(CLI::Range(0, 1024));

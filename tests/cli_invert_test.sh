@@ -37,6 +37,29 @@ assert s["max_deviation_per_length"] <= 1e-6, s["max_deviation_per_length"]
 assert s["naive_max_deviation_per_length"] > 0.01, s["naive_max_deviation_per_length"]
 EOF
 
+# --no-naive skips the naive solve only: the same rest shapes and equilibria byte for byte, no
+# naive.hair, no naive deviations in the summary (not zeros), and its "naive" is false.
+run invert "$work/targets.json" -o "$work/no_naive" --no-naive
+expect_rc "invert --no-naive" 0
+[ ! -e "$work/no_naive/naive.hair" ] && ok || fail "--no-naive wrote naive.hair"
+for f in rest_shapes.json equilibrium.hair; do
+  cmp -s "$work/out/$f" "$work/no_naive/$f" && ok || fail "--no-naive changed $f"
+done
+grep -q "naive solve skipped" "$work/stdout" && ok || fail "--no-naive line: $(cat "$work/stdout")"
+"$PYTHON" - "$work/out/summary.json" "$work/no_naive/summary.json" <<'EOF' && ok || fail "--no-naive summary"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:])
+assert a["naive"] is True and b["naive"] is False, (a["naive"], b["naive"])
+assert "naive_max_deviation" not in b and "naive_max_deviation_per_length" not in b, b.keys()
+assert all("naive_deviation" not in s for s in b["strand_results"])
+assert [s["deviation"] for s in a["strand_results"]] == [s["deviation"] for s in b["strand_results"]]
+EOF
+# With --force over a directory that has an earlier naive.hair, that file goes (not left stale).
+cp "$work/out/naive.hair" "$work/no_naive/naive.hair"
+run invert "$work/targets.json" -o "$work/no_naive" --no-naive --force
+expect_rc "invert --no-naive --force" 0
+[ ! -e "$work/no_naive/naive.hair" ] && ok || fail "--no-naive --force left naive.hair"
+
 # Independent check: `ringlet solve` from the written rest shapes reproduces the targets.
 run solve "$work/out/rest_shapes.json" -o "$work/again.json"
 expect_rc "solve rest_shapes.json" 0
