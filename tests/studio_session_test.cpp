@@ -366,6 +366,19 @@ TEST_F(StudioSession, OperationJsonRoundTrips) {
   ops[4].kind = StyleOperation::Kind::kGrow;
   ops[4].grow_step = 0.003;
   ops[4].grow_steps = 3;
+  // The brushes (styling.h, Brush): a mirrored sculpt stroke and a linear puff.
+  ops.resize(7);
+  ops[5].kind = StyleOperation::Kind::kSculpt;
+  ops[5].sculpt.brush.centre = Vec3(0.01, 0.1 / 3.0, -0.02);
+  ops[5].sculpt.to = Vec3(0.02, 0.05, -0.1 / 7.0);
+  ops[5].sculpt.brush.radius = 0.03;
+  ops[5].sculpt.brush.mirror = true;
+  ops[6].kind = StyleOperation::Kind::kPuff;
+  ops[6].puff_angle = 0.1 / 3.0;
+  ops[6].puff_brush.centre = Vec3(0.0, 0.02, 0.1);
+  ops[6].puff_brush.radius = 0.04;
+  ops[6].puff_brush.strength = 0.7;
+  ops[6].puff_brush.falloff = Brush::Falloff::kLinear;
   nlohmann::json document = {{"operations", nlohmann::json::array()}};
   for (const StyleOperation& op : ops) {
     document["operations"].push_back(nlohmann::json::parse(OperationToJson(op).dump()));
@@ -380,6 +393,12 @@ TEST_F(StudioSession, OperationJsonRoundTrips) {
   EXPECT_EQ(back[0].curl_pitch, ops[0].curl_pitch);
   EXPECT_EQ(back[2].cut_region.offset, ops[2].cut_region.offset);
   EXPECT_EQ(back[2].cut_region.normal, ops[2].cut_region.normal);
+  EXPECT_EQ(back[5].sculpt.brush.centre, ops[5].sculpt.brush.centre);
+  EXPECT_EQ(back[5].sculpt.to, ops[5].sculpt.to);
+  EXPECT_TRUE(back[5].sculpt.brush.mirror);
+  EXPECT_EQ(back[6].puff_angle, ops[6].puff_angle);
+  EXPECT_EQ(back[6].puff_brush.strength, 0.7);
+  EXPECT_EQ(back[6].puff_brush.falloff, Brush::Falloff::kLinear);
 }
 
 // The library's hook: a set cancel flag stops an operation between blocks of masters.
