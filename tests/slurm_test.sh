@@ -6,10 +6,11 @@
 #      with sbatch, waits for it (squeue) and checks every task COMPLETED and the dataset equal,
 #      byte for byte, to a single-process `ringlet batch` of the spec (every file of every item
 #      folder but timing.json; the manifests' lines as sorted sets);
-#   2. the fault case: a second array (3 tasks of 4) in a fresh directory; once task 1 has
-#      finished an item, its ringlet is frozen (SIGSTOP, so that it cannot finish its share
-#      meanwhile) and the task cancelled with `scancel JOB_1` (Slurm sends SIGCONT and SIGTERM:
-#      ringlet abandons its item and ends); the task is CANCELLED, no partial folder is left,
+#   2. the fault case: a second array (3 tasks of 4) in a fresh directory; task 1's ringlet is
+#      frozen (SIGSTOP) as soon as it runs and let run 50 ms at a time until it has finished an
+#      item (so that the cancel lands mid-run whatever the load), then the task is cancelled
+#      with `scancel JOB_1` (Slurm sends SIGCONT and SIGTERM: ringlet abandons its item and
+#      ends); the task is CANCELLED, no partial folder is left,
 #      `--slurm-unfinished` names exactly task 1; `sbatch --array=1` resubmits it, it skips the
 #      items done and completes the dataset, equal to the single-process one, each item in the
 #      manifests once.
