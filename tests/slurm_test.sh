@@ -245,7 +245,7 @@ pid=
 deadline=$((SECONDS + 60))
 while [ -z "$pid" ]; do
   [ $SECONDS -lt $deadline ] || die "task 1 did not start in 60 s"
-  pid=$(pgrep -x -f -- "$task_line")
+  pid=$(pgrep -x -f -- "$(printf '%s' "$task_line" | sed 's/[][\\.*^$+?(){}|]/\\&/g')")
   [ -n "$pid" ] || sleep 0.02
 done
 signal_task() {  # signal_task SIGNAL: to task 1's ringlet, after checking the pid is still it
