@@ -472,8 +472,9 @@ Command AddBatchCommand(CLI::App* parent) {
   slurm(app->add_option("--slurm-log-dir", args->slurm_log_dir,
                         "Directory of the tasks' logs (default OUTDIR/slurm-logs)"));
   slurm(app->add_option("--slurm-option", args->slurm_options,
-                        "A further #SBATCH option, --name=value (repeatable: --mem=2G, "
-                        "--qos=low, ...)"));
+                        "A further #SBATCH option, as --slurm-option=--name=value (repeatable: "
+                        "--slurm-option=--mem=2G --slurm-option=--qos=low)"))
+      ->allow_extra_args(false);
   return Command{app, [args] { return RunBatch(*args); }};
 }
 
