@@ -92,6 +92,7 @@ TEST(SlurmArray, WordsAndExtraOptionsForSbatchLines) {
     error.clear();
     EXPECT_FALSE(CheckSlurmWord("--slurm-account", bad, &error)) << bad;
     EXPECT_EQ(error.rfind("--slurm-account: ", 0), 0U) << error;
+    EXPECT_EQ(error.find('\n'), std::string::npos) << error;  // one line, whatever the value
   }
   for (const char* good : {"--mem=2G", "--qos=low", "--exclusive", "--mail-type=END,FAIL",
                            "--constraint=skylake|icelake"}) {

@@ -108,7 +108,7 @@ bool CheckSlurmTime(const std::string& text, std::string* error) {
     *error =
         "--slurm-time: expected a time limit as sbatch --time takes it (minutes, M:S, H:M:S, "
         "D-H, D-H:M, D-H:M:S or UNLIMITED), not zero, got \"" +
-        text + "\"";
+        DisplayPath(text) + "\"";
     return false;
   }
   return true;
@@ -119,7 +119,7 @@ bool CheckSlurmWord(const std::string& option, const std::string& value, std::st
     *error = option +
              ": expected a non-empty word of printable ASCII without spaces, quotes, "
              "backslashes, '$' or '%' (it goes on an #SBATCH line as is), got \"" +
-             value + "\"";
+             DisplayPath(value) + "\"";
     return false;
   }
   return true;
@@ -138,7 +138,7 @@ bool CheckSlurmExtraOption(const std::string& option, std::string* error) {
     *error =
         "--slurm-option: expected an sbatch option as --name or --name=value (no spaces or "
         "quotes), got \"" +
-        option + "\"";
+        DisplayPath(option) + "\"";
     return false;
   }
   for (const char* own : {"--array", "--output", "--error", "--job-name", "--cpus-per-task",
