@@ -7,7 +7,7 @@
 #      byte for byte, to a single-process `ringlet batch` of the spec (every file of every item
 #      folder but timing.json; the manifests' lines as sorted sets);
 #   2. the fault case: a second array (3 tasks of 4) in a fresh directory; task 1's ringlet is
-#      frozen (SIGSTOP) as soon as it runs and let run 50 ms at a time until it has finished an
+#      frozen (SIGSTOP) as soon as it runs and let run 10 ms at a time until it has finished an
 #      item (so that the cancel lands mid-run whatever the load), then the task is cancelled
 #      with `scancel JOB_1` (Slurm sends SIGCONT and SIGTERM: ringlet abandons its item and
 #      ends); the task is CANCELLED, no partial folder is left,
@@ -237,20 +237,35 @@ job=$(cd / && sbatch --parsable "$work/fault.sh") || die "sbatch failed"
 jobs_submitted+=("$job")
 log=$work/fault/slurm-logs/ringlet-small-${job}_1.out
 # Task 1's ringlet (the script execs it), found by its exact command line (unique: it names
-# this test's temporary directory), frozen as soon as it runs, then let run 50 ms at a time (an
-# item takes 0.1 s or more) until it has finished an item: cancelled with 1 (rarely 2) of its 4
-# items done, whatever the machine's load. Every signal goes to that one checked pid only.
+# this test's temporary directory), frozen as soon as it runs, then let run 10 ms at a time
+# until it has finished an item (the small items take 20 ms or more: 50-ms steps often let two
+# through): cancelled with 1 (rarely 2) of its 4 items done, whatever the machine's load. Every signal goes to that one checked pid only.
 task_line="$RINGLET batch $SPEC -o $work/fault --shard 1/3 --threads 1"
+# read_command_line PID: $cmdline = its arguments joined by spaces (builtins only, no fork).
+read_command_line() {
+  local args
+  cmdline=
+  mapfile -d '' args 2>/dev/null <"/proc/$1/cmdline" || return 1
+  cmdline="${args[*]}"
+}
+task_pid() {  # the processes whose command line is $task_line (none: nothing printed)
+  local entry found=
+  for entry in /proc/[0-9]*; do
+    read_command_line "${entry#/proc/}" && [ "$cmdline" = "$task_line" ] &&
+      found="$found${found:+ }${entry#/proc/}"
+  done
+  printf '%s' "$found"
+}
 pid=
 deadline=$((SECONDS + 60))
 while [ -z "$pid" ]; do
   [ $SECONDS -lt $deadline ] || die "task 1 did not start in 60 s"
-  pid=$(pgrep -x -f -- "$(printf '%s' "$task_line" | sed 's/[][\\.*^$+?(){}|]/\\&/g')")
+  pid=$(task_pid)
   [ -n "$pid" ] || sleep 0.02
 done
 signal_task() {  # signal_task SIGNAL: to task 1's ringlet, after checking the pid is still it
   if ! [[ "$pid" =~ ^[1-9][0-9]*$ ]] || [ "$pid" -le 1 ] ||
-    [ "$(tr '\0' ' ' <"/proc/$pid/cmdline" 2>/dev/null)" != "$task_line " ]; then
+    ! read_command_line "$pid" || [ "$cmdline" != "$task_line" ]; then
     die "task 1's process \"$pid\" is not (or no longer) $task_line"
   fi
   kill "-$1" "$pid"
@@ -261,7 +276,7 @@ deadline=$((SECONDS + 60))
 until [ "$(done_items)" -ge 1 ]; do
   [ $SECONDS -lt $deadline ] || die "task 1 finished no item in 60 s: $(cat "$log" 2>&1)"
   signal_task CONT
-  sleep 0.05
+  sleep 0.01
   signal_task STOP
 done
 scancel "${job}_1"
@@ -276,6 +291,7 @@ if grep -q 'stopped by a signal' "$log"; then ok; else
   fail "task 1 did not end by its SIGTERM: $(cat "$log")"
 fi
 done_before=$(ls "$work/fault"/item-00000000{4,5,6,7}/done 2>/dev/null | wc -l)
+echo "slurm: task 1 cancelled with $done_before of its 4 items done"
 if [ "$done_before" -ge 1 ] && [ "$done_before" -le 3 ]; then ok; else
   fail "task 1 (items 4 to 7) had $done_before items done when cancelled, expected 1 to 3"
 fi
