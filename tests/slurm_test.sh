@@ -64,7 +64,9 @@ export SLURM_CONF=$work/slurm.conf
 daemons=()
 jobs_submitted=()
 
+watchdog=
 cleanup() {
+  [ -z "$watchdog" ] || kill "$watchdog" 2>/dev/null
   # Jobs first (slurmstepd outlives slurmd), then the daemons, youngest first.
   if [ ${#jobs_submitted[@]} -gt 0 ]; then
     timeout 10 scancel "${jobs_submitted[@]}" 2>/dev/null
@@ -152,6 +154,30 @@ slurmctld -D -i >"$work/slurmctld.out" 2>&1 &
 daemons+=($!)
 slurmd -D -N ringlet1 >"$work/slurmd.out" 2>&1 &
 daemons+=($!)
+# A watchdog for when this script is killed without its EXIT trap (ctest's timeout sends
+# SIGKILL): once the script is gone, it stops every process that runs with this test's
+# SLURM_CONF in its environment (the daemons, slurmstepd and the jobs, which slurmd would
+# otherwise leave behind; no other process has this temporary path) and removes the directory.
+test_pid=$$
+(
+  exec >/dev/null 2>&1  # ctest waits for the test's output to close: not for the watchdog's
+  while kill -0 "$test_pid"; do sleep 1; done
+  for signal in TERM KILL; do
+    for entry in /proc/[0-9]*; do
+      [ "${entry#/proc/}" != "$BASHPID" ] || continue
+      mapfile -d '' environment 2>/dev/null <"$entry/environ" || continue
+      for variable in "${environment[@]}"; do
+        if [ "$variable" = "SLURM_CONF=$SLURM_CONF" ]; then
+          kill "-$signal" "${entry#/proc/}"
+          break
+        fi
+      done
+    done
+    sleep 1
+  done
+  rm -rf "$work"
+) &
+watchdog=$!
 start=$SECONDS
 deadline=$((SECONDS + 60))
 until [ "$(sinfo -h -n ringlet1 -o %t 2>/dev/null)" = idle ]; do
