@@ -35,16 +35,16 @@ struct SlurmArrayOptions {
   std::string output_dir;  ///< the dataset's directory, absolute
   std::string log_dir;     ///< where the tasks' logs go (must exist when they start), absolute
   BatchRange items;        ///< the items the array runs
-  bool items_option =
-      false;  ///< pass `--items A:B` to every task (the array runs part of the spec)
-  std::int64_t spec_count = 0;    ///< the spec's items (for the script's comment)
-  std::int64_t tasks = 1;         ///< N: task ids 0 to N - 1, task K runs shard K/N
-  int throttle = 0;               ///< at most this many tasks at once (`%M`); 0: no limit
-  int cpus_per_task = 1;          ///< --cpus-per-task, and the threads of each item
-  std::string time = "01:00:00";  ///< --time (per task)
-  std::string job_name = "ringlet-batch";
-  std::string partition, account;  ///< empty: the site's defaults
-  std::vector<std::string> extra;  ///< further `#SBATCH` options, each "--name[=value]"
+  /// Pass `--items A:B` to every task (the array runs part of the spec).
+  bool items_option = false;
+  std::int64_t spec_count = 0;             ///< the spec's items (for the script's comment)
+  std::int64_t tasks = 1;                  ///< N: task ids 0 to N - 1, task K runs shard K/N
+  int throttle = 0;                        ///< at most this many tasks at once (`%M`); 0: no limit
+  int cpus_per_task = 1;                   ///< --cpus-per-task, and the threads of each item
+  std::string time = "01:00:00";           ///< --time: each task's time limit, as sbatch takes it
+  std::string job_name = "ringlet-batch";  ///< --job-name (`%x` in the log file names)
+  std::string partition, account;          ///< empty: the site's defaults
+  std::vector<std::string> extra;          ///< further `#SBATCH` options, each "--name[=value]"
 };
 
 /// Checks a Slurm time limit as sbatch --time takes it: "M", "M:S", "H:M:S", "D-H", "D-H:M",
