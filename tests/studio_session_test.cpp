@@ -13,6 +13,7 @@
 #include "ringlet/hairstyle_json.h"
 #include "ringlet/masters_json.h"
 #include "ringlet/styling.h"
+#include "brush_tool.h"
 #include "session.h"
 
 namespace ringlet::studio {
@@ -684,6 +685,96 @@ TEST(StudioExamples, EveryExampleOpensStylesAndSavesBitForBit) {
     ExpectSameBits(*session.Hair()->strands, StyleFile(path));
   }
   EXPECT_GE(examples_cut, 10);
+}
+
+
+// ---------------------------------------------------------------------------------------------
+// The brush tools' geometry (brush_tool.h), against hand-computed points.
+
+// Two straight vertical strands of 0.2 m hanging from (0, 0, 0) and (-0.05, 0, 0): curvatures 0,
+// 10 segments, so the samples lie every 5 mm down the z axis.
+StyledHair TwoStraightStrands() {
+  StyledHair hair;
+  Mat3 frame;
+  frame << 1, 0, 0, 0, -1, 0, 0, 0, -1;  // n1 = x, n2 = -y, t = -z
+  for (double x : {0.0, -0.05}) {
+    StrandModel m;
+    m.segment_lengths = UniformSegments(0.2, 10);
+    m.root_position = Vec3(x, 0, 0);
+    m.root_frame = frame;
+    hair.masters.models.push_back(m);
+    StrandSolution s;
+    s.curvatures = VecX::Zero(30);
+    hair.solutions.push_back(s);
+  }
+  return hair;
+}
+
+TEST(StudioBrushTool, PicksTheNearestHairPointOnTheRay) {
+  const StyledHair hair = TwoStraightStrands();
+  // From +x toward -x at z = -0.1: both strands lie on the ray; the nearer (x = 0) wins, at its
+  // sample z = -0.1 (20 samples of 5 mm down).
+  const std::optional<Vec3> p = PickMasterPoint(hair, {Vec3(1, 0, -0.1), Vec3(-1, 0, 0)}, 0.003);
+  ASSERT_TRUE(p.has_value());
+  EXPECT_LT((*p - Vec3(0, 0, -0.1)).norm(), 1e-12) << p->transpose();
+  // From -x: the other strand is nearer.
+  const std::optional<Vec3> q = PickMasterPoint(hair, {Vec3(-1, 0, -0.1), Vec3(1, 0, 0)}, 0.003);
+  ASSERT_TRUE(q.has_value());
+  EXPECT_LT((*q - Vec3(-0.05, 0, -0.1)).norm(), 1e-12) << q->transpose();
+  // 1 cm beside both strands, with a reach of 3 mm: nothing; behind the eye: nothing.
+  EXPECT_FALSE(PickMasterPoint(hair, {Vec3(1, 0.01, -0.1), Vec3(-1, 0, 0)}, 0.003).has_value());
+  EXPECT_FALSE(PickMasterPoint(hair, {Vec3(-1, 0, -0.1), Vec3(-1, 0, 0)}, 0.003).has_value());
+}
+
+TEST(StudioBrushTool, PicksTheBodySurfaceAndEndsStrokesInTheViewPlane) {
+  Body body;
+  std::string error;
+  ASSERT_TRUE(Body::Create({Sphere{Vec3::Zero(), 0.1, "head"}}, {}, &body, &error)) << error;
+  // A ray along +y at height 0.05 enters the sphere at y = -sqrt(0.1^2 - 0.05^2).
+  const std::optional<Vec3> hit = PickBodyPoint(body, {Vec3(0, -1, 0.05), Vec3(0, 2, 0)}, 5.0);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_LT((*hit - Vec3(0, -std::sqrt(0.0075), 0.05)).norm(), 2e-6) << hit->transpose();
+  EXPECT_FALSE(PickBodyPoint(body, {Vec3(0, -1, 0.2), Vec3(0, 1, 0)}, 5.0).has_value());
+  EXPECT_FALSE(PickBodyPoint(body, {Vec3(0, -1, 0.05), Vec3(0, 1, 0)}, 0.5).has_value());
+
+  // The plane through `from` facing a camera looking along +y is y = from.y.
+  const Vec3 from(0.01, 0.02, 0.03);
+  EXPECT_LT((StrokeEnd(from, {Vec3(0.3, -1, 0.2), Vec3(0, 1, 0)}, Vec3(0, 1, 0)) -
+             Vec3(0.3, 0.02, 0.2))
+                .norm(),
+            1e-15);
+  const Vec3 slanted = StrokeEnd(from, {Vec3(0, -1, 0), Vec3(0.1, 1, 0.2)}, Vec3(0, 1, 0));
+  EXPECT_NEAR(slanted.y(), 0.02, 1e-15);
+  EXPECT_NEAR(slanted.x(), 0.1 * 1.02, 1e-15);
+  EXPECT_NEAR(slanted.z(), 0.2 * 1.02, 1e-15);
+  // Parallel to the plane, or meeting it behind the eye: the stroke stays at from.
+  EXPECT_EQ(StrokeEnd(from, {Vec3(0, -1, 0), Vec3(1, 0, 0)}, Vec3(0, 1, 0)), from);
+  EXPECT_EQ(StrokeEnd(from, {Vec3(0, 1, 0), Vec3(0, 1, 0)}, Vec3(0, 1, 0)), from);
+}
+
+TEST(StudioBrushTool, StrokesBecomeValidOperations) {
+  BrushSettings brush;
+  brush.radius = 0.04;
+  brush.strength = 0.8;
+  brush.falloff = Brush::Falloff::kLinear;
+  brush.mirror = false;
+  brush.puff_angle = 0.25;
+  const StyleOperation sculpt = SculptOperation(brush, Vec3(0, -0.1, 0), Vec3(0.01, -0.1, 0.02));
+  std::string why;
+  EXPECT_TRUE(sculpt.IsValid(&why)) << why;
+  EXPECT_EQ(sculpt.kind, StyleOperation::Kind::kSculpt);
+  EXPECT_EQ(sculpt.sculpt.brush.centre, Vec3(0, -0.1, 0));
+  EXPECT_EQ(sculpt.sculpt.to, Vec3(0.01, -0.1, 0.02));
+  EXPECT_EQ(sculpt.sculpt.brush.radius, 0.04);
+  EXPECT_EQ(sculpt.sculpt.brush.strength, 0.8);
+  EXPECT_EQ(sculpt.sculpt.brush.falloff, Brush::Falloff::kLinear);
+  EXPECT_FALSE(sculpt.sculpt.brush.mirror);
+  const StyleOperation lift = PuffOperation(brush, Vec3(0, 0, 0.1), false);
+  const StyleOperation flat = PuffOperation(brush, Vec3(0, 0, 0.1), true);
+  EXPECT_TRUE(lift.IsValid(&why)) << why;
+  EXPECT_EQ(lift.puff_angle, 0.25);
+  EXPECT_EQ(flat.puff_angle, -0.25);
+  EXPECT_EQ(flat.puff_brush.centre, Vec3(0, 0, 0.1));
 }
 
 }  // namespace
