@@ -12,6 +12,7 @@
 
 #include "ringlet/hairstyle_json.h"
 #include "ringlet/masters_json.h"
+#include "ringlet/strand_geometry.h"
 #include "ringlet/styling.h"
 #include "brush_tool.h"
 #include "session.h"
@@ -687,6 +688,59 @@ TEST(StudioExamples, EveryExampleOpensStylesAndSavesBitForBit) {
   EXPECT_GE(examples_cut, 10);
 }
 
+
+
+// A comb stroke as the window makes it (a ray picks a hair point; the stroke ends in the view
+// plane) and a puff at the crown, applied through the session with mirror symmetry: the stroke
+// moves the hair it touched, leaves the masters it did not bit for bit, is saved in the file
+// as data and `ringlet style`'s code path replays the saved file bit for bit.
+TEST_F(StudioSession, CombStrokeAndPuffReplayFromTheSavedFile) {
+  Open();
+  const auto groomed = session.Hair();
+  // A tip of the hair seen from the front (+y, the face side): the ray from 1 m away, toward it.
+  const StyledHair& before = groomed->styled;
+  const Vec3 tip = ComputeGeometry(before.masters.models[5], before.solutions[5].curvatures)
+                       .points.back();
+  const Ray press{tip - Vec3(0, -1, 0), Vec3(0, -1, 0)};
+  const std::optional<Vec3> from = PickMasterPoint(before, press, 0.004);
+  ASSERT_TRUE(from.has_value());
+  // The mouse moves 3 cm to the right and 1 cm up in the view plane (the camera looks along -y).
+  const Ray release{*from + Vec3(0.03, 1, 0.01), Vec3(0, -1, 0)};
+  const Vec3 to = StrokeEnd(*from, release, press.direction);
+  EXPECT_LT((to - (*from + Vec3(0.03, 0, 0.01))).norm(), 1e-15);
+  BrushSettings brush;
+  brush.radius = 0.04;
+  brush.strength = 1.0;
+  brush.mirror = true;
+  std::string error;
+  ASSERT_TRUE(session.AddOperation(SculptOperation(brush, *from, to), &error)) << error;
+  ASSERT_TRUE(session.AddOperation(PuffOperation(brush, Vec3(0, 0, 0.1), false), &error)) << error;
+  session.Wait();
+  ASSERT_TRUE(session.UpToDate());
+  const auto styled = session.Hair();
+  EXPECT_EQ(styled->stats.what, "puff");
+  const Vec3 moved = ComputeGeometry(styled->styled.masters.models[5],
+                                     styled->styled.solutions[5].curvatures)
+                         .points.back() -
+                     tip;
+  EXPECT_GT(moved.x(), 0.01) << moved.transpose();
+  int untouched = 0;
+  for (size_t i = 0; i < before.masters.models.size(); ++i) {
+    if (styled->styled.solutions[i].curvatures == before.solutions[i].curvatures) ++untouched;
+  }
+  EXPECT_GT(untouched, 20);  // 60 masters: the stroke and the crown's puff touch some only
+  EXPECT_LT(untouched, 58);
+
+  const std::string path = TempPath("combed.json");
+  ASSERT_TRUE(session.Save(path, &error)) << error;
+  std::ifstream file(path);
+  const nlohmann::json saved = nlohmann::json::parse(file);
+  ASSERT_EQ(saved["operations"].size(), 2u);
+  EXPECT_TRUE(saved["operations"][0].contains("sculpt"));
+  EXPECT_EQ(saved["operations"][0]["sculpt"]["mirror"], true);
+  EXPECT_TRUE(saved["operations"][1].contains("puff"));
+  ExpectSameBits(*styled->strands, StyleFile(path));
+}
 
 // ---------------------------------------------------------------------------------------------
 // The brush tools' geometry (brush_tool.h), against hand-computed points.
