@@ -303,7 +303,7 @@ void Energy(const std::string& dir) {
   std::FILE* series = Open(dir + "/energy.csv");
   std::fprintf(series, "case,step,time,energy_above_equilibrium_rel\n");
   std::FILE* summary = Open(dir + "/energy_summary.csv");
-  std::fprintf(summary, "case,steps,h,lost_percent,highest_above_start_rel,rises\n");
+  std::fprintf(summary, "case,steps,h,lost_percent,highest_above_start_rel,rises,largest_rise_rel,rises_before_settled,settled_step\n");
   // The unit test's strand (tests/dynamics_test.cpp, UndampedEnergyIsBoundedOverTenThousandSteps).
   StrandModel m;
   m.segment_lengths = UniformSegments(0.1, 6);
@@ -335,8 +335,8 @@ void Energy(const std::string& dir) {
     StrandDynamics dynamics(m, options, {m.NaturalCurvatures(), VecX::Zero(18), 0.0});
     const double initial = dynamics.Potential().total + dynamics.Kinetic();
     const double range = initial - equilibrium;
-    double energy = initial, highest = initial;
-    int rises = 0;
+    double energy = initial, highest = initial, largest_rise = 0.0;
+    int rises = 0, early_rises = 0, settled = -1;
     const int steps = 10000;
     std::fprintf(series, "%s,0,0,1\n", c.name);
     for (int k = 1; k <= steps; ++k) {
@@ -345,17 +345,26 @@ void Energy(const std::string& dir) {
         std::fprintf(stderr, "energy %s: step %d %s\n", c.name, k, report.message.c_str());
       }
       const double next = report.potential.total + report.kinetic;
-      rises += next > energy + 1e-12 * std::abs(initial);
+      const bool rise = next > energy + 1e-12 * std::abs(initial);
+      rises += rise;
+      // Settled: within 1e-6 of the range above the equilibrium (rounding of the total energy,
+      // ~1e-16 |E|, is then a visible part of what is left).
+      if (settled < 0 && next - equilibrium < 1e-6 * range) settled = k;
+      early_rises += rise && settled < 0;
+      largest_rise = std::max(largest_rise, (next - energy) / range);
       energy = next;
       highest = std::max(highest, energy);
       if (k % 10 == 0 || k < 100) {
         std::fprintf(series, "%s,%d,%.6g,%.9e\n", c.name, k, k * c.h, (energy - equilibrium) / range);
       }
     }
-    std::fprintf(summary, "%s,%d,%.6g,%.4f,%.3e,%d\n", c.name, steps, c.h,
-                 100.0 * (initial - energy) / range, (highest - initial) / range, rises);
-    std::printf("energy %s: %.4f%% lost over %d steps, highest %.2e above the start, %d rises\n",
-                c.name, 100.0 * (initial - energy) / range, steps, (highest - initial) / range, rises);
+    std::fprintf(summary, "%s,%d,%.6g,%.4f,%.3e,%d,%.3e,%d,%d\n", c.name, steps, c.h,
+                 100.0 * (initial - energy) / range, (highest - initial) / range, rises,
+                 largest_rise, early_rises, settled);
+    std::printf("energy %s: %.4f%% lost over %d steps, highest %.2e above the start, %d rises "
+                "(%d before it settled at step %d), largest rise %.2e of the range\n",
+                c.name, 100.0 * (initial - energy) / range, steps, (highest - initial) / range, rises,
+                early_rises, settled, largest_rise);
   }
   std::fclose(series);
   std::fclose(summary);
