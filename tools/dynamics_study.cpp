@@ -376,7 +376,8 @@ void Energy(const std::string& dir) {
 void StableSteps(const std::string& dir) {
   std::FILE* out = Open(dir + "/stable_steps.csv");
   std::fprintf(out, "origin,curl,segments,omega_max,h_explicit_all,omega_max_bending,"
-                    "h_explicit_bending,largest_stable_h,ratio_to_explicit_bending\n");
+                    "h_explicit_bending,h_explicit_bending_no_contact,largest_stable_h,"
+                    "ratio_to_explicit_bending\n");
   Body head;
   std::string error;
   if (!Body::Create({Sphere{Vec3::Zero(), 0.1, "head"}}, {}, &head, &error)) std::exit(1);
@@ -419,6 +420,23 @@ void StableSteps(const std::string& dir) {
           // Bending: most of the mode's kinetic energy (v^T M v = 1) is the centreline's.
           if (v.dot(rotational * v) < 0.5) omega_bending = std::max(omega_bending, w);
         }
+        // The same without the body: the hanging equilibrium's bending modes (the contact penalty
+        // adds stiff modes of its own).
+        double omega_free = 0.0;
+        {
+          StrandModel free = m;
+          free.contact.obstacle = nullptr;
+          const VecX q = SolveStrand(free).curvatures;
+          const Modes free_modes = ComputeModes(free, q);
+          const MatX rotational_free = ComputeMassMatrix(free, q).Dense() -
+                                       ComputeMassMatrix(free, q, no_rotation).Dense();
+          for (Eigen::Index j = 0; j < free_modes.omega_squared.size(); ++j) {
+            const VecX v = free_modes.shapes.col(j);
+            if (v.dot(rotational_free * v) < 0.5) {
+              omega_free = std::max(omega_free, std::sqrt(std::max(0.0, free_modes.omega_squared(j))));
+            }
+          }
+        }
         double largest = 0.0;
         for (double h : ladder) {
           DynamicsOptions options;
@@ -438,13 +456,13 @@ void StableSteps(const std::string& dir) {
           largest = h;
         }
         const double h_all = 2.0 / omega_all, h_bending = 2.0 / omega_bending;
-        std::fprintf(out, "%s,%s,%d,%.6e,%.6e,%.6e,%.6e,%.6g,%.4g\n", std::string(origin).c_str(),
+        std::fprintf(out, "%s,%s,%d,%.6e,%.6e,%.6e,%.6e,%.6e,%.6g,%.4g\n", std::string(origin).c_str(),
                      std::string(curl).c_str(), segments, omega_all, h_all, omega_bending, h_bending,
-                     largest, largest / h_bending);
-        std::printf("%s %s n = %d: explicit limit %.2e s (all modes), %.2e s (bending); largest "
-                    "implicit step %.4g s (%.0fx)\n",
+                     2.0 / omega_free, largest, largest / h_bending);
+        std::printf("%s %s n = %d: explicit limit %.2e s (all modes), %.2e s (bending), %.2e s "
+                    "(bending, no body); largest implicit step %.4g s (%.0fx)\n",
                     std::string(origin).c_str(), std::string(curl).c_str(), segments, h_all, h_bending,
-                    largest, largest / h_bending);
+                    2.0 / omega_free, largest, largest / h_bending);
       }
     }
   }
