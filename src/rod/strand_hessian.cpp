@@ -16,7 +16,7 @@
 //     S_a^T (Gamma_b S_b + own samples of b) with Gamma_b = sum_(s past b) E_s^T Phi_s E_s.
 // The diagonal blocks add the segment's own second derivatives: the Jacobian of its closed-form
 // gradient (HelixSegmentVjp and HelixChordVjp with the adjoints held fixed), in closed form from
-// the G_m (helix.h) and their derivatives up to G_8 (OwnHessianSum below).
+// the G_m (helix.h) and their derivatives up to G_8 (OwnHessianSum, rod/helix_hessian.h).
 #include "ringlet/strand_hessian.h"
 
 #include <algorithm>
