@@ -273,7 +273,7 @@ void Energy(const std::string& dir) {
       largest_rise = std::max(largest_rise, (next - energy) / range);
       energy = next;
       highest = std::max(highest, energy);
-      if (k % 10 == 0 || k < 100) {
+      if (k * c.h <= 10.0 + 1e-9 && (k % 20 == 0 || k < 100)) {  // the plotted 10 s
         std::fprintf(series, "%s,%d,%.6g,%.9e\n", c.name, k, k * c.h, (energy - equilibrium) / range);
       }
     }
