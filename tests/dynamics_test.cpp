@@ -19,6 +19,7 @@
 
 #include "dynamics/kinematics.h"
 #include "reference/beam_modes.h"
+#include "reference/rotating_rod.h"
 #include "ringlet/body.h"
 #include "ringlet/contact.h"
 #include "ringlet/hair_type.h"
@@ -594,6 +595,103 @@ TEST(DynamicsClamp, UniformlyAcceleratedClampSettlesOnTheEquilibriumOfGravityMin
   std::printf("clamp at constant velocity: drift over 2 s %.2e L\n", worst / m.Length());
   EXPECT_LT(worst, 1e-6 * m.Length());
   EXPECT_THROW(moving.SetClampMotion({}), std::logic_error);
+}
+
+// A straight rod on a clamp turning at Omega = 10 rad/s about a vertical axis 5 cm away, its
+// tangent pointing outward: with internal friction it comes to rest in the turning frame, where
+// gravity and the centrifugal load bend it (0.32 L from the static shape). Against the
+// independent shooting solution of that relative equilibrium (reference/rotating_rod.h): in plane
+// within the discretization error of n = 10 (the static shape is 1.7e-3 L from the same
+// reference at Omega = 0; measured 1.0e-3 L at h = 1/480 s, docs/validation.md), and out of
+// plane (no Coriolis or Euler load at rest in the turning frame) within 1e-4 L. BDF2: backward
+// Euler's O(Omega h) lag bends it out of plane by 1.6e-2 L at this step (tools/dynamics_study).
+TEST(DynamicsClamp, TurningClampSettlesOnTheRelativeEquilibrium) {
+  const double length = 0.15, arm = 0.05, omega = 10.0;
+  StrandModel m = MakeStrand(length, 10, 0.0, Vec3::Zero(), testing::HorizontalFrame());
+  m.root_position = Vec3(arm, 0.0, 0.0);
+  const StrandSolution rest = SolveStrand(m);
+  ASSERT_TRUE(rest.summary.Converged());
+  DynamicsOptions options;
+  options.integrator = Integrator::kBdf2;
+  options.time_step = 1.0 / 240.0;
+  options.air_drag = 0.0;            // still air would drag the turning strand out of its plane
+  options.internal_friction = 1e-8;  // settles the relative motion in ~0.2 s (not the shape)
+  StrandDynamics dynamics(m, options, {rest.curvatures, VecX::Zero(30), 0.0});
+  auto turn = [=](double t) {
+    Mat3 r;
+    r << std::cos(omega * t), -std::sin(omega * t), 0.0, std::sin(omega * t), std::cos(omega * t),
+        0.0, 0.0, 0.0, 1.0;
+    return r;
+  };
+  const Vec3 r0 = m.root_position;
+  const Mat3 q0 = m.root_frame;
+  dynamics.SetClampMotion({[=](double t) -> Vec3 { return turn(t) * r0; },
+                           [=](double t) -> Mat3 { return turn(t) * q0; }});
+  for (int k = 0; k < 360; ++k) {  // 1.5 s
+    const StepReport report = dynamics.Step();
+    ASSERT_TRUE(report.converged) << report.message;
+  }
+  reference::PlanarRotatingRod rod{length, arm, omega, m.material.density * m.section.Area(),
+                                   m.material.young_modulus * m.section.I1(), -m.gravity.z()};
+  rod.steps = 2000;
+  const std::vector<reference::PlanarRotatingRod::State> shape = rod.Solve();
+  std::vector<double> arcs;
+  for (int j = 0; j <= 20; ++j) arcs.push_back(length * j / 20.0);
+  // The shape relative to the clamp: the model with the root where it was at t = 0.
+  const std::vector<Vec3> simulated = SampleCentrelineAt(m, dynamics.state().curvatures, arcs);
+  const std::vector<Vec3> statics = SampleCentrelineAt(m, rest.curvatures, arcs);
+  double in_plane = 0.0, out_of_plane = 0.0, moved = 0.0;
+  for (int j = 0; j <= 20; ++j) {
+    const auto& y = shape[static_cast<size_t>(j * 100)];
+    const Vec3& p = simulated[static_cast<size_t>(j)];
+    in_plane = std::max(in_plane, std::hypot(p.x() - y[0], p.z() - y[1]));
+    out_of_plane = std::max(out_of_plane, std::abs(p.y()));
+    moved = std::max(moved, (p - statics[static_cast<size_t>(j)]).norm());
+  }
+  std::printf("turning clamp: in plane %.2e L from the relative equilibrium, %.2e L out of plane; "
+              "the turning moved the shape by %.3f L\n",
+              in_plane / length, out_of_plane / length, moved / length);
+  ASSERT_GT(moved, 0.3 * length);
+  EXPECT_LT(in_plane, 2.5e-3 * length);
+  EXPECT_LT(out_of_plane, 1e-4 * length);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Convergence in the time step.
+
+// A horizontal curly strand released under gravity (20 cm, the tip moves 0.24 L in 0.5 s), no
+// halving allowed: the error at t = 0.5 s against a fine BDF2 reference (h = T/1536) falls like h
+// with backward Euler and like h^2 with BDF2 between h = T/96 and T/192 (measured 0.96 and 1.98
+// at the finest pair of the study, docs/validation.md).
+TEST(DynamicsConvergence, FirstOrderBackwardEulerSecondOrderBdf2) {
+  StrandModel m = MakeStrand(0.2, 10, 0.3, Vec3(40.0, 0.0, 10.0), testing::HorizontalFrame());
+  m.section = SectionFromEccentricity(40e-6, 0.3);
+  const double duration = 0.5;
+  auto run = [&](Integrator integrator, int steps) {
+    DynamicsOptions options;
+    options.integrator = integrator;
+    options.max_halvings = 0;
+    StrandDynamics dynamics(m, options, {m.NaturalCurvatures(), VecX::Zero(30), 0.0});
+    for (int k = 0; k < steps; ++k) {
+      const StepReport report = dynamics.Step(duration / steps);
+      EXPECT_TRUE(report.converged) << report.message;
+    }
+    return SampleCentreline(m, dynamics.state().curvatures, 4);
+  };
+  const std::vector<Vec3> reference = run(Integrator::kBdf2, 1536);
+  auto error = [&](const std::vector<Vec3>& r) {
+    double e = 0.0;
+    for (size_t j = 0; j < r.size(); ++j) e = std::max(e, (r[j] - reference[j]).norm());
+    return e / m.Length();
+  };
+  for (Integrator integrator : {Integrator::kBackwardEuler, Integrator::kBdf2}) {
+    const double coarse = error(run(integrator, 96)), fine = error(run(integrator, 192));
+    const double order = std::log2(coarse / fine);
+    const bool bdf2 = integrator == Integrator::kBdf2;
+    std::printf("swing, %s: error %.2e L at h = T/96, %.2e L at T/192, order %.2f\n",
+                bdf2 ? "BDF2" : "backward Euler", coarse, fine, order);
+    EXPECT_NEAR(order, bdf2 ? 2.0 : 1.0, bdf2 ? 0.3 : 0.25);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -160,7 +160,7 @@ Modes ComputeModes(const StrandModel& model, const VecX& curvatures, int count,
 void SamplePlaces(const StrandModel& model, const VecX& curvatures, const GaussRule& rule,
                   StrandDynamics::SampleMotion* motion) {
   Kinematics kin;
-  ComputeKinematics(model, curvatures, rule, &kin);
+  ComputeKinematics(model, curvatures, rule, &kin, /*jacobians=*/false);
   motion->positions.resize(kin.samples.size());
   motion->directors.resize(kin.samples.size());
   for (size_t k = 0; k < kin.samples.size(); ++k) {
@@ -249,7 +249,8 @@ class IncrementalPotential {
   // Phi(q) and, when gradient is not null, dPhi/dq; kinematics at q are kept for the Newton
   // matrix.
   double Evaluate(const VecX& q, VecX* gradient) {
-    ComputeKinematics(model_, q, rule_, &kin_);
+    // Positions and frames only: the Jacobians are filled when the Newton matrix needs them.
+    ComputeKinematics(model_, q, rule_, &kin_, /*jacobians=*/false);
     const double line_density = model_.material.density * model_.section.Area();
     const double inv_a = 1.0 / a_;
     const size_t count = kin_.samples.size();
@@ -299,6 +300,7 @@ class IncrementalPotential {
   // The Newton matrix at the q of the last Evaluate (its forces): M/a + c nu-drag (Gauss-Newton)
   // + the curvature of those forces + the exact Hessian of E + c gamma l_i.
   void NewtonMatrix(const VecX& q, StrandHessian* matrix) {
+    dynamics::AddJacobians(model_, q, &kin_);
     dynamics::AssembleMetric(model_, options_, kin_, 1.0 / a_, c_, matrix);
     ComputeStrandHessian(model_, q, &hessian_);
     AddHessian(hessian_, extra_, matrix);

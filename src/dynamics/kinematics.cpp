@@ -18,15 +18,6 @@ Mat3 RotationJacobian(const Vec3& omega, double u, const HelixFunctions& g) {
   return u * Mat3::Identity() + (u * u * g.g[2]) * w + (u * u * u * g.g[3]) * w2;
 }
 
-// dh/dOmega of the chord h(u) (3x3), row k from HelixChordVjp with dE/dh = e_k (helix.h).
-Mat3 ChordJacobian(const Vec3& omega, double u, const HelixFunctions& g) {
-  Mat3 d;
-  for (int k = 0; k < 3; ++k) {
-    d.row(k) = HelixChordVjp(omega, u, g, Vec3::Unit(k)).transpose();
-  }
-  return d;
-}
-
 }  // namespace
 
 GaussRule GaussLegendre01(int points) {
@@ -70,55 +61,89 @@ GaussRule GaussLegendre01(int points) {
 }
 
 void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const GaussRule& rule,
-                       Kinematics* kin) {
+                       Kinematics* kin, bool jacobians) {
+  using helix_hessian::CoefficientsOf;
   const int n = model.NumSegments();
   assert(curvatures.size() == 3 * n);
   const size_t points = rule.nodes.size();
-  kin->twist.resize(static_cast<size_t>(n));
   kin->frames.resize(static_cast<size_t>(n));
+  kin->starts.resize(static_cast<size_t>(n));
   kin->segments.resize(static_cast<size_t>(n));
   kin->samples.resize(static_cast<size_t>(n) * points);
   kin->first_sample.resize(static_cast<size_t>(n) + 1);
+  kin->rotation_coefficients.resize(static_cast<size_t>(n));
+  kin->chord_coefficients.resize(static_cast<size_t>(n));
   Mat3 q = model.root_frame;
   Vec3 r = Vec3::Zero();
   for (int i = 0; i < n; ++i) {
     const size_t si = static_cast<size_t>(i);
     const double l = model.segment_lengths[si];
     const Vec3 omega = curvatures.segment<3>(3 * i);
+    const double norm = omega.norm();
     kin->frames[si] = q;
+    kin->starts[si] = r;
     const HelixSegment segment = EvaluateHelixSegment(omega, l);
     kin->segments[si] = segment;
-    // S_i: a change dOmega of segment i turns everything past its end by omega = Q_i A(l) dOmega
-    // and moves its end by Q_i dp; a point y past it moves by omega x (y - r_(i+1)) + Q_i dp =
-    // omega x y + v with v = Q_i dp + r_(i+1) x omega (strand_hessian.cpp, the same twist).
-    const Vec3 r_next = r + q * segment.chord;
-    Mat63 twist;
-    twist.topRows<3>() = q * RotationJacobian(omega, l, segment.functions);
-    twist.bottomRows<3>() =
-        q * ChordJacobian(omega, l, segment.functions) + Hat(r_next) * twist.topRows<3>();
-    kin->twist[si] = twist;
+    double g[9];
+    helix_hessian::HelixFunctions8(l * norm, g);
+    kin->rotation_coefficients[si] = CoefficientsOf(1, l, g);
+    kin->chord_coefficients[si] = CoefficientsOf(2, l, g);
     kin->first_sample[si] = static_cast<int>(si * points);
-    const double norm = omega.norm();
+    // W and W^2 = Omega Omega^T - |Omega|^2 I, once per segment.
+    const Mat3 w = Hat(omega);
+    Mat3 w2 = omega * omega.transpose();
+    w2.diagonal().array() -= omega.squaredNorm();
     for (size_t j = 0; j < points; ++j) {
       Sample& s = kin->samples[si * points + j];
       s.segment = i;
       s.u = rule.nodes[j] * l;
       s.weight = rule.weights[j] * l;
       s.functions = EvaluateHelixFunctions(norm * s.u);
+      double gu[9];
+      helix_hessian::HelixFunctions8(norm * s.u, gu);
+      s.chord = CoefficientsOf(2, s.u, gu);
       const Vec3 h = HelixChordFromFunctions(omega, s.u, s.functions);
       s.y = r + q * h;
       // R(u) = I + u G1 W + u^2 G2 W^2 (helix.h, Rodrigues).
-      const Mat3 w = Hat(omega);
       const Mat3 rotation = Mat3::Identity() + (s.u * s.functions.g[1]) * w +
-                            (s.u * s.u * s.functions.g[2]) * (w * w);
+                            (s.u * s.u * s.functions.g[2]) * w2;
       s.frame = q * rotation;
-      s.angular = q * RotationJacobian(omega, s.u, s.functions);
-      s.linear = q * ChordJacobian(omega, s.u, s.functions);
     }
-    r = r_next;
+    r += q * segment.chord;
     q = q * segment.rotation;
   }
   kin->first_sample[static_cast<size_t>(n)] = static_cast<int>(static_cast<size_t>(n) * points);
+  kin->jacobians = false;
+  if (jacobians) AddJacobians(model, curvatures, kin);
+}
+
+void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* kin) {
+  if (kin->jacobians) return;
+  const int n = model.NumSegments();
+  kin->twist.resize(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const size_t si = static_cast<size_t>(i);
+    const double l = model.segment_lengths[si];
+    const Vec3 omega = curvatures.segment<3>(3 * i);
+    const Mat3& q = kin->frames[si];
+    const HelixSegment& segment = kin->segments[si];
+    // S_i: a change dOmega of segment i turns everything past its end by omega = Q_i A(l) dOmega
+    // and moves its end by Q_i dp; a point y past it moves by omega x (y - r_(i+1)) + Q_i dp =
+    // omega x y + v with v = Q_i dp + r_(i+1) x omega (strand_hessian.cpp, the same twist).
+    // r_(i+1) is the segment's start (its first sample minus its partial chord) plus Q_i p.
+    const Vec3 r_next = kin->starts[si] + q * segment.chord;
+    Mat63 twist;
+    twist.topRows<3>() = q * RotationJacobian(omega, l, segment.functions);
+    twist.bottomRows<3>() = q * helix_hessian::ChordDerivative(omega, kin->chord_coefficients[si]) +
+                            Hat(r_next) * twist.topRows<3>();
+    kin->twist[si] = twist;
+    for (int k = kin->first_sample[si]; k < kin->first_sample[si + 1]; ++k) {
+      Sample& s = kin->samples[static_cast<size_t>(k)];
+      s.angular = q * RotationJacobian(omega, s.u, s.functions);
+      s.linear = q * helix_hessian::ChordDerivative(omega, s.chord);  // dh(u)/dOmega
+    }
+  }
+  kin->jacobians = true;
 }
 
 Mat3 SectionInertia(const StrandModel& model, const Sample& sample, bool rotational_inertia) {
@@ -235,7 +260,6 @@ void AddForceCurvature(const StrandModel& model, const VecX& curvatures, const K
   Mat3 q_bar = Mat3::Zero();
   for (int b = n - 1; b >= 0; --b) {
     const size_t sb = static_cast<size_t>(b);
-    const double l = model.segment_lengths[sb];
     const Vec3 omega = curvatures.segment<3>(3 * b);
     const Mat3& q = kin.frames[sb];
     const Mat3 qt = q.transpose();
@@ -250,26 +274,16 @@ void AddForceCurvature(const StrandModel& model, const VecX& curvatures, const K
       load_top -= Hat(forces[static_cast<size_t>(k)]) * kin.samples[static_cast<size_t>(k)].linear;
     }
     matrix->load[sb].topRows<3>() += load_top;
-    // Diagonal: the Jacobian in Omega_b of segment b's step of the reverse sweep, adjoints fixed,
-    // by central differences (a turn of 1e-6 rad per step: truncation ~1e-12, rounding ~1e-10).
-    const Mat3 d_rotation = qt * q_bar;
-    const Vec3 d_chord = qt * r_bar;
-    auto own_gradient = [&](const Vec3& x) {
-      Vec3 g = HelixSegmentVjp(x, l, EvaluateHelixFunctions(l * x.norm()), d_rotation, d_chord,
-                               Vec3::Zero());
-      for (int k = first; k < last; ++k) {
-        const Sample& s = kin.samples[static_cast<size_t>(k)];
-        g += HelixChordVjp(x, s.u, EvaluateHelixFunctions(s.u * x.norm()),
-                           qt * forces[static_cast<size_t>(k)]);
-      }
-      return g;
-    };
-    const double step = 1e-6 / l;
-    Mat3 diagonal;
-    for (int c = 0; c < 3; ++c) {
-      const Vec3 e = step * Vec3::Unit(c);
-      diagonal.col(c) = (own_gradient(omega + e) - own_gradient(omega - e)) / (2.0 * step);
+    // Diagonal: the Jacobian in Omega_b of segment b's step of the reverse sweep, adjoints fixed
+    // (HelixSegmentVjp with dE/dR = Q_b^T q_bar, dE/dp = Q_b^T r_bar and HelixChordVjp of each
+    // sample's force), in closed form as in the statics' exact Hessian (helix_hessian.h).
+    helix_hessian::OwnHessianSum own(omega);
+    own.AddMatrix(kin.rotation_coefficients[sb], qt * q_bar);
+    own.AddChord(kin.chord_coefficients[sb], qt * r_bar);
+    for (int k = first; k < last; ++k) {
+      own.AddChord(kin.samples[static_cast<size_t>(k)].chord, qt * forces[static_cast<size_t>(k)]);
     }
+    const Mat3 diagonal = own.Hessian();
     matrix->diagonal[sb] += 0.5 * (diagonal + diagonal.transpose());
     // Advance the sums and adjoints past segment b's start.
     const HelixSegment& segment = kin.segments[sb];

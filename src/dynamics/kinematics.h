@@ -11,6 +11,7 @@
 #include "ringlet/math.h"
 #include "ringlet/strand_hessian.h"
 #include "ringlet/strand_model.h"
+#include "rod/helix_hessian.h"
 
 namespace ringlet::dynamics {
 
@@ -28,21 +29,34 @@ struct Sample {
   double weight = 0.0;  ///< quadrature weight w (m): l_i times the rule's weight
   Vec3 y;               ///< position relative to the root, r(s) - r(0) (m)
   Mat3 frame;           ///< material frame Q(s) = Q_i R(u)
-  Mat3 angular;         ///< d omega / d Omega_i of the sample's frame (world, m)
-  Mat3 linear;          ///< d y / d Omega_i (world, m^2)
+  Mat3 angular;         ///< d omega / d Omega_i of the sample's frame (world, m); with jacobians
+  Mat3 linear;          ///< d y / d Omega_i (world, m^2); with jacobians
   HelixFunctions functions;  ///< G_m(u |Omega_i|)
+  /// The partial chord's coefficients (A_2 over length u, helix_hessian.h): its Jacobian and
+  /// second derivatives in Omega_i.
+  helix_hessian::Coefficients chord;
 };
 
 /// Everything the dynamics needs at one configuration, in one forward sweep (O(n)).
 struct Kinematics {
   std::vector<Mat63> twist;         ///< S_i, full (rows 0-2 rotation, 3-5 root-point velocity)
   std::vector<Mat3> frames;         ///< Q_i at segment starts
+  std::vector<Vec3> starts;         ///< r_i - r(0) at segment starts (m)
   std::vector<HelixSegment> segments;
   std::vector<Sample> samples;      ///< segment by segment, root to tip
   std::vector<int> first_sample;    ///< index of segment i's first sample; size n + 1
+  /// Coefficients of A_1 (rotation) and A_2 (chord) of each whole segment (helix_hessian.h).
+  std::vector<helix_hessian::Coefficients> rotation_coefficients, chord_coefficients;
+  bool jacobians = false;           ///< twist and the samples' angular, linear are filled
 };
+/// Positions, frames and helix functions of the segments and samples; with `jacobians` also the
+/// twists S_i and the samples' own Jacobians (angular, linear), which the Newton matrix needs and
+/// the energy and its gradient do not.
 void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const GaussRule& rule,
-                       Kinematics* kinematics);
+                       Kinematics* kinematics, bool jacobians = true);
+/// Fills the twists and the samples' Jacobians of kinematics computed without them (no-op when
+/// present).
+void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* kinematics);
 
 /// Per-sample inertia of the section: Theta = rho w Q diag(I1, I2, I1 + I2) Q^T (kg m^2), or
 /// zero when the options drop the rotational inertia.
@@ -69,8 +83,9 @@ void ApplyJacobianTranspose(const StrandModel& model, const VecX& curvatures,
 /// point forces held fixed, d^2/dq^2 sum_s F_s . y_s(q): the part of the exact Hessian of
 /// sum_s 1/2 m_s |y_s - y~_s|^2 / a that the Gauss-Newton metric leaves out (docs/dynamics.md,
 /// "Newton matrix"). Off-diagonal blocks in closed form (H_ab = S_a^T B_b, a < b, with
-/// d^2 y_s / dq_a dq_b = omega_a x dy_s/dq_b), diagonal blocks by central differences of the
-/// segment's own reverse-sweep step (HelixSegmentVjp), O(n) in all.
+/// d^2 y_s / dq_a dq_b = omega_a x dy_s/dq_b), diagonal blocks in closed form: the Jacobian of
+/// the segment's own reverse-sweep step, adjoints fixed (helix_hessian.h, OwnHessianSum, as the
+/// statics' exact Hessian), O(n) in all. Needs kinematics with jacobians.
 void AddForceCurvature(const StrandModel& model, const VecX& curvatures,
                        const Kinematics& kinematics, const std::vector<Vec3>& forces,
                        StrandHessian* matrix);
