@@ -56,7 +56,8 @@ class BatchSummary:
     workers: int = 0    #: Dask workers when the run started
     output: str = ""
     failures: List[Tuple[str, str]] = dataclasses.field(default_factory=list)
-    #: per item made now: {"item", "name", "status", "worker", "pid", "seconds", "timing"}
+    #: per item made now: {"item", "name", "status", "worker", "pid", "seconds" (wall),
+    #: "cpu_seconds" (its worker process's CPU time meanwhile), "timing" (timing.json)}
     items: List[Dict[str, Any]] = dataclasses.field(default_factory=list)
     #: temporary folders of workers that died while writing an item, removed at the end
     removed_temporaries: List[str] = dataclasses.field(default_factory=list)
@@ -144,9 +145,14 @@ def _run_task(spec_path: str, digest: str, outdir: str, indices: Sequence[int],
         pass
     results = []
     for index in indices:
+        before = os.times()
         result = _ringlet.run_batch_item(spec, outdir, index, threads)
+        after = os.times()
         result["worker"] = worker
         result["pid"] = os.getpid()
+        # The worker process's CPU time (user + system, s) while making the item: the item's
+        # threads and whatever else the worker did meanwhile (heartbeats: little).
+        result["cpu_seconds"] = (after.user - before.user) + (after.system - before.system)
         results.append(result)
     return results
 
@@ -265,8 +271,9 @@ def run(spec, out: str, client=None, *, items: Optional[Tuple[int, int]] = None,
     if client is None and todo:
         from distributed import Client, LocalCluster
         n = workers or len(os.sched_getaffinity(0))
+        # The scheduler's HTTP server on a free port (its default 8787 may be taken).
         own_cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                   dashboard_address=None)
+                                   dashboard_address="127.0.0.1:0")
         client = Client(own_cluster)
         if threads is None:
             threads = 1
@@ -364,7 +371,8 @@ def _account(r, manifest, summary, spec):
         summary.failures.append((r["name"], r["error"]))
         print("ringlet.batch: warning: %s: %s" % (r["name"], r["error"]), file=sys.stderr)
     _ringlet.append_manifest_line(manifest, line)
-    record = {k: r.get(k) for k in ("item", "name", "worker", "pid", "seconds", "timing")}
+    record = {k: r.get(k) for k in ("item", "name", "worker", "pid", "seconds", "cpu_seconds",
+                                    "timing")}
     record["status"] = status
     summary.items.append(record)
 
