@@ -269,11 +269,18 @@ def run(spec, out: str, client=None, *, items: Optional[Tuple[int, int]] = None,
 
     own_cluster = None
     if client is None and todo:
+        import dask
         from distributed import Client, LocalCluster
         n = workers or len(os.sched_getaffinity(0))
-        # The scheduler's HTTP server on a free port (its default 8787 may be taken).
-        own_cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                   dashboard_address="127.0.0.1:0")
+        # The worker processes without the nanny's MALLOC_TRIM_THRESHOLD_=65536 (Dask's
+        # default, which returns freed memory to the system eagerly): it cost 29 % more CPU per
+        # item here (docs/benchmarks.md, "Datasets"). The scheduler's HTTP server on a free port
+        # (its default 8787 may be taken).
+        environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}))
+        environ.pop("MALLOC_TRIM_THRESHOLD_", None)
+        with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}):
+            own_cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                       dashboard_address="127.0.0.1:0")
         client = Client(own_cluster)
         if threads is None:
             threads = 1
