@@ -39,8 +39,7 @@ BatchItemResult::Status RecordedStatus(const std::string& outdir, const std::str
   const std::string path = (std::filesystem::path(outdir) / name / "metadata.json").string();
   if (ReadFile(path, &text, &ignored)) {
     const nlohmann::json metadata = nlohmann::json::parse(text, nullptr, false);
-    if (metadata.is_object() && metadata.contains("status") &&
-        metadata["status"] == "flagged") {
+    if (metadata.is_object() && metadata.contains("status") && metadata["status"] == "flagged") {
       return BatchItemResult::Status::kFlagged;
     }
   }
@@ -68,23 +67,28 @@ void BindBatch(py::module_& m) {
              return spec;
            }),
            py::arg("path"))
-      .def_property_readonly("path", [](const BatchSpec& s) { return s.path; },
-                             "The spec file (as given)")
-      .def_property_readonly("count", [](const BatchSpec& s) { return s.count; },
-                             "The items: 0 to count - 1")
-      .def_property_readonly("seed", [](const BatchSpec& s) { return s.seed; },
-                             "The seed of every item's random streams")
-      .def_property_readonly("base_names", [](const BatchSpec& s) { return s.base_names; },
-                             "The base hairstyles as named in the spec")
-      .def_property_readonly("views", [](const BatchSpec& s) { return s.views.size(); },
-                             "The number of views (images per item and label kind)")
+      .def_property_readonly(
+          "path", [](const BatchSpec& s) { return s.path; }, "The spec file (as given)")
+      .def_property_readonly(
+          "count", [](const BatchSpec& s) { return s.count; }, "The items: 0 to count - 1")
+      .def_property_readonly(
+          "seed", [](const BatchSpec& s) { return s.seed; },
+          "The seed of every item's random streams")
+      .def_property_readonly(
+          "base_names", [](const BatchSpec& s) { return s.base_names; },
+          "The base hairstyles as named in the spec")
+      .def_property_readonly(
+          "views", [](const BatchSpec& s) { return s.views.size(); },
+          "The number of views (images per item and label kind)")
       .def("__repr__", [](const BatchSpec& s) {
         return "<ringlet.BatchSpec " + s.path + ": " + std::to_string(s.count) + " items, " +
                std::to_string(s.bases.size()) + " bases, " + std::to_string(s.views.size()) +
                " views>";
       });
 
-  m.def("batch_item_name", [](long long index) {
+  m.def(
+      "batch_item_name",
+      [](long long index) {
         if (index < 0 || index >= kMaxBatchItems) {
           throw Error("index: expected an integer in [0, " + std::to_string(kMaxBatchItems) +
                       "), got " + std::to_string(index));
@@ -97,22 +101,23 @@ void BindBatch(py::module_& m) {
   m.def("batch_item_done", &BatchItemDone, py::arg("outdir"), py::arg("name"),
         "Whether outdir/NAME/done exists: the item is finished (its folder is complete).");
 
-  m.def("resolve_batch_item",
-        [](const BatchSpec& spec, long long index) {
-          CheckIndex(spec, index);
-          const BatchItem item = ResolveBatchItem(spec, index);
-          py::dict d;
-          d["item"] = item.index;
-          d["name"] = item.name;
-          d["base"] = item.base;
-          d["parameters"] = FromJson(item.parameters);
-          d["hairstyle"] = FromJson(item.hairstyle);
-          return d;
-        },
-        py::arg("spec"), py::arg("index"),
-        "Item `index` of the spec, resolved (a pure function of the spec and the index): a dict "
-        "with item, name, base, parameters (the drawn values and operations, as `ringlet batch "
-        "--plan` prints them) and hairstyle (the item's hairstyle document).");
+  m.def(
+      "resolve_batch_item",
+      [](const BatchSpec& spec, long long index) {
+        CheckIndex(spec, index);
+        const BatchItem item = ResolveBatchItem(spec, index);
+        py::dict d;
+        d["item"] = item.index;
+        d["name"] = item.name;
+        d["base"] = item.base;
+        d["parameters"] = FromJson(item.parameters);
+        d["hairstyle"] = FromJson(item.hairstyle);
+        return d;
+      },
+      py::arg("spec"), py::arg("index"),
+      "Item `index` of the spec, resolved (a pure function of the spec and the index): a dict "
+      "with item, name, base, parameters (the drawn values and operations, as `ringlet batch "
+      "--plan` prints them) and hairstyle (the item's hairstyle document).");
 
   m.def(
       "run_batch_item",
@@ -153,8 +158,9 @@ void BindBatch(py::module_& m) {
         d["base"] = item.base;
         d["status"] = skipped ? "skipped" : BatchStatusName(result.status);
         d["recorded_status"] = BatchStatusName(result.status);
-        d["error"] = result.status == BatchItemResult::Status::kFailed ? py::object(py::str(result.error))
-                                                                      : py::object(py::none());
+        d["error"] = result.status == BatchItemResult::Status::kFailed
+                         ? py::object(py::str(result.error))
+                         : py::object(py::none());
         d["manifest_line"] = BatchManifestLine(item, result);
         d["timing"] = skipped ? py::object(py::none()) : FromJson(result.timing);
         d["seconds"] =
@@ -178,8 +184,8 @@ void BindBatch(py::module_& m) {
       "append_manifest_line",
       [](const std::string& path, const std::string& line) {
         if (line.find('\n') != std::string::npos) {
-          throw Error("line: expected one line (no newline), got " +
-                      std::to_string(line.size()) + " characters with a newline");
+          throw Error("line: expected one line (no newline), got " + std::to_string(line.size()) +
+                      " characters with a newline");
         }
         std::string error;
         bool ok = false;

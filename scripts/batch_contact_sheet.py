@@ -30,7 +30,8 @@ def main():
         meta = json.load(open(os.path.join(d, "metadata.json")))
         column = []
         for row in rows[:3]:
-            column.append(Image.open(os.path.join(d, "%s_%02d.png" % (row, args.view))).convert("RGB"))
+            png = os.path.join(d, "%s_%02d.png" % (row, args.view))
+            column.append(Image.open(png).convert("RGB"))
         depth = np.load(os.path.join(d, "depth_%02d.npy" % args.view))
         hit = depth > 0
         grey = np.zeros(depth.shape, np.uint8)

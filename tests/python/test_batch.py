@@ -73,7 +73,8 @@ def test_resolve_is_the_plan(tmp_path, cli):
 def test_errors(tmp_path, cli):
     path = spec_files(tmp_path)
     spec = ringlet.BatchSpec(str(path))
-    with pytest.raises(ringlet.Error, match=r"index: expected an item of the spec, in \[0, 4\), got 4"):
+    with pytest.raises(ringlet.Error,
+                       match=r"index: expected an item of the spec, in \[0, 4\), got 4"):
         ringlet.run_batch_item(spec, str(tmp_path), 4)
     with pytest.raises(ringlet.Error, match=r"threads: expected an integer in \[0, 1024\]"):
         ringlet.run_batch_item(spec, str(tmp_path), 0, threads=-1)
