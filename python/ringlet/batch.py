@@ -68,11 +68,13 @@ class BatchSummary:
         return self.failed == 0 and self.flagged == 0
 
     def line(self) -> str:
-        """The summary line, as ``ringlet batch`` prints it (plus the workers)."""
+        """The summary line, as ``ringlet batch`` prints it (plus the workers, when some item
+        was to be made)."""
+        workers = " on %d Dask workers" % self.workers if self.workers else ""
         return ("batch: %d items [%d, %d) of %d: %d done, %d flagged, %d failed, %d skipped in "
-                "%s on %d Dask workers -> %s" % (
+                "%s%s -> %s" % (
                     self.total, self.begin, self.end, self.count, self.done, self.flagged,
-                    self.failed, self.skipped, _format_seconds(self.seconds), self.workers,
+                    self.failed, self.skipped, _format_seconds(self.seconds), workers,
                     self.output))
 
 
