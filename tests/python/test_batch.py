@@ -87,3 +87,24 @@ def test_errors(tmp_path, cli):
                                               check=False))
     with pytest.raises(ringlet.Error, match="line: expected one line"):
         ringlet.append_manifest_line(str(tmp_path / "m.jsonl"), "a\nb")
+
+
+def test_half_written_items_are_never_trusted(tmp_path, cli):
+    """A worker killed while writing an item leaves its temporary folder: the item is made
+    again (the same bytes), and the engine removes the temporaries of dead workers only."""
+    path = spec_files(tmp_path)
+    cli("batch", path, "-o", tmp_path / "ref", "--quiet", "--items", "1:2")
+    spec = ringlet.BatchSpec(str(path))
+    out = tmp_path / "out"
+    dead = out / ".item-000000001.tmp.otherhost.4242"
+    dead.mkdir(parents=True)
+    (dead / "hairstyle.json").write_text("{\"half\":")  # cut short by the kill
+    (dead / "done").write_text("")
+    alive = out / ".item-000000002.tmp.otherhost.4343"
+    alive.mkdir()
+    assert not ringlet.batch_item_done(str(out), "item-000000001")
+    result = ringlet.run_batch_item(spec, str(out), 1)
+    assert result["status"] == "done"
+    assert digests(out) == digests(tmp_path / "ref")
+    removed = ringlet.batch._remove_temporaries(str(out), [("otherhost", 4242)])
+    assert removed == [dead.name] and not dead.exists() and alive.exists()
