@@ -149,8 +149,12 @@ def cluster(work):
     procs = Processes(work)
     port = free_port()
     address = "tcp://127.0.0.1:%d" % port
+    # Should pytest itself be killed (a ctest timeout), the processes end by themselves: the
+    # scheduler after 4 idle minutes (longer than any pause of these tests), the workers 60 s
+    # after losing it.
     procs.start("scheduler", [PYTHON, "-m", "distributed.cli.dask_scheduler", "--host",
-                              "127.0.0.1", "--port", str(port), "--no-dashboard"])
+                              "127.0.0.1", "--port", str(port), "--no-dashboard",
+                              "--idle-timeout", "240s"])
     client = None
     workers = []
 
@@ -159,7 +163,7 @@ def cluster(work):
             i = len(workers)
             workers.append(procs.start("worker%d" % i, [
                 PYTHON, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1",
-                "--no-nanny", "--no-dashboard", "--host", "127.0.0.1",
+                "--no-nanny", "--no-dashboard", "--host", "127.0.0.1", "--death-timeout", "60",
                 "--local-directory", str(work / ("worker%d" % i)), "--name", "w%d" % i]))
         alive = sum(1 for w in workers if w.poll() is None)
         client.wait_for_workers(alive, timeout=60)
