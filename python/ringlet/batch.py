@@ -253,8 +253,13 @@ def run(spec, out: str, client=None, *, items: Optional[Tuple[int, int]] = None,
                         (begin, end, parsed.count, parsed.count - 1))
     if items_per_task < 1:
         raise Error("items_per_task: expected an integer >= 1, got %r" % (items_per_task,))
-    if workers is not None and workers < 1:
-        raise Error("workers: expected an integer >= 1, got %r" % (workers,))
+    if workers is not None and (client is not None or workers < 1):
+        raise Error("workers: expected an integer >= 1 and no client (the local cluster's "
+                    "worker processes), got %r" % (workers,) +
+                    (" with a client" if client is not None else ""))
+    if threads is not None and not 0 <= threads <= 1024:
+        raise Error("threads: expected an integer in [0, 1024] (0 = all cores), got %r" %
+                    (threads,))
     out = os.fspath(out)
     if os.path.exists(out) and not os.path.isdir(out):
         raise Error("%s: exists and is not a directory" % out)
@@ -270,25 +275,23 @@ def run(spec, out: str, client=None, *, items: Optional[Tuple[int, int]] = None,
     summary.skipped = summary.total - len(todo)
 
     own_cluster = None
-    if client is None and todo:
-        import dask
-        from distributed import Client, LocalCluster
-        n = workers or len(os.sched_getaffinity(0))
-        # The worker processes without the nanny's MALLOC_TRIM_THRESHOLD_=65536 (Dask's
-        # default, which returns freed memory to the system eagerly): it cost 29 % more CPU per
-        # item here (docs/benchmarks.md, "Datasets"). The scheduler's HTTP server on a free port
-        # (its default 8787 may be taken).
-        environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}))
-        environ.pop("MALLOC_TRIM_THRESHOLD_", None)
-        with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}):
-            own_cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                       dashboard_address="127.0.0.1:0")
-        client = Client(own_cluster)
-        if threads is None:
-            threads = 1
     if threads is None:
-        threads = 0
+        threads = 1 if client is None else 0
     try:
+        if client is None and todo:
+            import dask
+            from distributed import Client, LocalCluster
+            n = workers or len(os.sched_getaffinity(0))
+            # The worker processes without the nanny's MALLOC_TRIM_THRESHOLD_=65536 (Dask's
+            # default, which returns freed memory to the system eagerly): it cost 29 % more CPU
+            # per item here (docs/benchmarks.md, "Datasets"). The scheduler's HTTP server on a
+            # free port (its default 8787 may be taken).
+            environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}))
+            environ.pop("MALLOC_TRIM_THRESHOLD_", None)
+            with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}):
+                own_cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                           dashboard_address="127.0.0.1:0")
+            client = Client(own_cluster)
         if todo:
             summary.workers = len(client.scheduler_info()["workers"])
             # Each worker's host and process, so that the temporary folders of the workers that
@@ -301,7 +304,8 @@ def run(spec, out: str, client=None, *, items: Optional[Tuple[int, int]] = None,
                 outdir, [processes[a] for a in sorted(gone)])
     finally:
         if own_cluster is not None:
-            client.close()
+            if client is not None:
+                client.close()
             own_cluster.close()
     summary.seconds = time.monotonic() - start
     if not quiet:
