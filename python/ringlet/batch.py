@@ -283,8 +283,9 @@ def run(spec, out: str, client=None, *, items: Optional[Tuple[int, int]] = None,
             from distributed import Client, LocalCluster
             n = workers or len(os.sched_getaffinity(0))
             # The worker processes without the nanny's MALLOC_TRIM_THRESHOLD_=65536 (Dask's
-            # default, which returns freed memory to the system eagerly): it cost 29 % more CPU
-            # per item here (docs/benchmarks.md, "Datasets"). The scheduler's HTTP server on a
+            # default; it also fixes glibc's mmap threshold, so that an item's large buffers are
+            # mapped and unmapped again and again): it cost 29 % more CPU per item here
+            # (docs/benchmarks.md, "Datasets"). The scheduler's HTTP server on a
             # free port (its default 8787 may be taken).
             environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}))
             environ.pop("MALLOC_TRIM_THRESHOLD_", None)
