@@ -8,6 +8,26 @@ import numpy.typing
 
 __version__: str
 
+class BatchSpec:
+    """A checked batch spec (docs/batch.md): its bases, distributions, operations, views and outputs. BatchSpec(path) reads and checks the file as `ringlet batch` does (every base read once, every distribution's extremes tried); a bad spec raises ringlet.Error with the command's one line naming the field. Immutable; share it between calls."""
+    def __init__(self, path: str) -> None:
+        ...
+    @property
+    def base_names(self) -> List[str]:
+        """The base hairstyles as named in the spec"""
+    @property
+    def count(self) -> int:
+        """The items: 0 to count - 1"""
+    @property
+    def path(self) -> str:
+        """The spec file (as given)"""
+    @property
+    def seed(self) -> int:
+        """The seed of every item's random streams"""
+    @property
+    def views(self) -> int:
+        """The number of views (images per item and label kind)"""
+
 class Body:
     """A body hair rests on (body.h, docs/body.md): a union of spheres and closed triangle meshes, folded with a smooth minimum of radius `blend`, seen through its signed distance (m, negative inside). Immutable; queries are vectorized over (..., 3) arrays of points and release the GIL for large inputs. Accepted wherever the module takes a body (render(body=...), invert(body=...)). Pickles as its JSON document and the absolute directory of its OBJ files (parsed again: the mesh files must still be there)."""
     def __copy__(self) -> Any:
@@ -637,6 +657,15 @@ class StyledHair:
     def wet_state(self) -> bool:
         """True between wet and dry."""
 
+def append_manifest_line(path: str, line: str) -> None:
+    """Appends line + newline to a manifest file with one write() under an exclusive flock(), as `ringlet batch` does: lines of processes appending at once never interleave."""
+
+def batch_item_done(outdir: str, name: str) -> bool:
+    """Whether outdir/NAME/done exists: the item is finished (its folder is complete)."""
+
+def batch_item_name(index: int) -> str:
+    """The folder name of item `index`: "item-000000007" (9 digits, names sort like indices)."""
+
 def decode_hair_file(data: bytes, units_per_metre: float = ...) -> HairCurves:
     """The bytes of a .hair file -> HairCurves."""
 
@@ -693,6 +722,12 @@ def recommended_grading_ratio(gravity_parameter: float) -> float:
 
 def render(hair: Any = ..., hairstyle: Any = ..., settings: Any = ..., body: Any = ..., width: Optional[int] = ..., height: Optional[int] = ..., samples_per_pixel: Optional[int] = ..., eccentricity: Optional[float] = ..., threads: int = ..., srgb: bool = ..., return_stats: bool = ...) -> Any:
     """Path traces hair and body (render.h) as `ringlet render` does. hair: HairCurves or a Groom (which brings its hairstyle). hairstyle (Hairstyle, dict or path): its body, fibre eccentricity, seed and "render" settings. settings: a "render" object dict (docs/hairstyle-format.md) replacing the hairstyle's. body: a ringlet.Body, a body file path or a body dict (replacing the hairstyle's). width, height (pixels), samples_per_pixel override the settings; eccentricity in [0, 1) overrides the hairstyle's (default 0). threads: 0 = all cores (the image does not depend on it). Returns an (H, W, 3) float32 array of linear radiance (W sr^-1 m^-2 per channel, row 0 at the top), or with srgb=True the uint8 sRGB codes that `ringlet render` writes to its PNG (exposure applied, clamped); with return_stats=True a tuple (image, RenderStats). Releases the GIL; Ctrl-C stops it."""
+
+def resolve_batch_item(spec: BatchSpec, index: int) -> dict:
+    """Item `index` of the spec, resolved (a pure function of the spec and the index): a dict with item, name, base, parameters (the drawn values and operations, as `ringlet batch --plan` prints them) and hairstyle (the item's hairstyle document)."""
+
+def run_batch_item(spec: BatchSpec, outdir: str, index: int, threads: int = ...) -> dict:
+    """Makes item `index` of the spec into outdir as `ringlet batch` does (docs/batch.md): the same files, byte for byte, written all or nothing (a temporary folder renamed into place, `done` last); an item already done is not made again. Releases the GIL; Ctrl-C abandons the item (nothing of it is written) and raises KeyboardInterrupt. threads: per item (0 = all cores; the bytes do not depend on it). outdir must exist (run_batch_item records neither spec.json nor a manifest line). Returns a dict: item, name, base, status ("done", "flagged", "failed" or "skipped": done before, or by another process meanwhile), recorded_status (a skipped item's status from its metadata.json; otherwise status), error (a failed item's one line, else None), manifest_line (the line `ringlet batch` appends for it, with recorded_status), timing (timing.json's wall times, None when skipped) and seconds (this call's wall time)."""
 
 def section_from_eccentricity(mean_radius: float, eccentricity: float) -> CrossSection:
     """Section of mean radius sqrt(a b) (m, > 0) and eccentricity in [0, 1)."""
