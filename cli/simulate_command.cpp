@@ -65,13 +65,8 @@ struct SimulateArgs {
   int threads = 0;
 };
 
-// Most point samples (points x frames) kept for hair.usda: the file is encoded in memory (about
-// 40 bytes of text and 28 of curves per point and frame: ~4.5 GB at the limit).
-constexpr long long kMaxPointFrames = 1LL << 26;
 // Points per segment of the strands of a scene (SimulationStrands).
 constexpr int kScenePointsPerSegment = 4;
-// The neck pivot below the head centre (m): docs/dynamics.md, "Presets".
-constexpr double kNeckDrop = 0.1;
 
 std::string FrameName(int frame, const char* extension) {
   char name[64];
@@ -202,8 +197,7 @@ int RunSimulate(const SimulateArgs& args) {
       PrintError(error);
       return kExitBadInput;
     }
-    for (const StrandModel& m : scene.strands) pivot += m.root_position;
-    if (!scene.strands.empty()) pivot /= static_cast<double>(scene.strands.size());
+    StrandsMotionAxes(scene.strands, &pivot, &up, &left);
   } else {
     std::vector<StyleOperation> operations;
     if (!LoadHairstyle(args.input_path, &style, &operations, &error) ||
@@ -211,13 +205,7 @@ int RunSimulate(const SimulateArgs& args) {
       PrintError(error);
       return kExitBadInput;
     }
-    const HeadFrame& head = std::holds_alternative<SphereScalp>(style.scalp)
-                                ? std::get<SphereScalp>(style.scalp).head
-                                : std::get<MeshScalp>(style.scalp).head;
-    const Mat3 axes = HeadAxes(head);  // (up, front, left)
-    up = axes.col(0);
-    left = axes.col(2);
-    pivot = head.centre - kNeckDrop * up;
+    HairstyleMotionAxes(style, &pivot, &up, &left);
   }
   if (!args.pivot.empty()) pivot = Vec3(args.pivot[0], args.pivot[1], args.pivot[2]);
   HeadMotion motion;

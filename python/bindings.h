@@ -118,6 +118,7 @@ void BindRender(py::module_& m);
 void BindInverse(py::module_& m);  // after BindSolve (it extends StrandModel)
 void BindBody(py::module_& m);
 void BindEnergy(py::module_& m);  // after BindSolve (its EnergyTerms)
+void BindSimulate(py::module_& m);  // after BindHair (its Groom and Hairstyle)
 /// Pickling, copy.copy/deepcopy and repr of the values (after the others: extends their classes).
 void BindValues(py::module_& m);
 

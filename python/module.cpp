@@ -260,5 +260,6 @@ PYBIND11_MODULE(_ringlet, m) {
   BindInverse(m);
   BindBody(m);
   BindEnergy(m);
+  BindSimulate(m);
   BindValues(m);
 }

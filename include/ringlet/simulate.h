@@ -18,6 +18,10 @@ namespace ringlet {
 
 /// Most frames of one simulation (duration x fps + 1).
 inline constexpr int kMaxSimulationFrames = 1000000;
+/// Most point samples (points of a frame x frames) `ringlet simulate` and ringlet.simulate keep:
+/// the frames are held in memory (hair.usda is encoded there: ~40 bytes of text and 28 of curves
+/// per point and frame, ~4.5 GB at the limit; Python: 12 bytes).
+inline constexpr long long kMaxPointFrames = 1LL << 26;
 /// Most implicit steps per frame.
 inline constexpr int kMaxSubsteps = 1000;
 
@@ -86,6 +90,18 @@ class Simulation {
   SimulationOptions options_;
   FrameSummary summary_;
 };
+
+/// How far below the head centre the presets' pivot lies (m): the neck (docs/dynamics.md,
+/// "Presets").
+inline constexpr double kNeckDrop = 0.1;
+
+/// The head axes and pivot of a hairstyle's motion: up and left (= up x front) of its scalp's
+/// HeadFrame (HeadAxes), pivot = centre - kNeckDrop up.
+void HairstyleMotionAxes(const Hairstyle& style, Vec3* pivot, Vec3* up, Vec3* left);
+/// The same for single strands (a scene): up = +z, left = -x (the face toward +y), pivot the
+/// mean of the roots (the origin without strands).
+void StrandsMotionAxes(const std::vector<StrandModel>& strands, Vec3* pivot, Vec3* up,
+                       Vec3* left);
 
 /// A groom's strands at one frame: the wisps grown (GrowWisps) around the masters at rest with
 /// the given curvatures, carried by the head pose at time t (points and major axes), so that the

@@ -144,6 +144,25 @@ void Simulation::Summarize(const std::vector<StepReport>* reports) {
   summary_ = std::move(s);
 }
 
+void HairstyleMotionAxes(const Hairstyle& style, Vec3* pivot, Vec3* up, Vec3* left) {
+  const HeadFrame& head = std::holds_alternative<SphereScalp>(style.scalp)
+                              ? std::get<SphereScalp>(style.scalp).head
+                              : std::get<MeshScalp>(style.scalp).head;
+  const Mat3 axes = HeadAxes(head);  // columns (up, front, left)
+  *up = axes.col(0);
+  *left = axes.col(2);
+  *pivot = head.centre - kNeckDrop * *up;
+}
+
+void StrandsMotionAxes(const std::vector<StrandModel>& strands, Vec3* pivot, Vec3* up,
+                       Vec3* left) {
+  *up = Vec3::UnitZ();
+  *left = -Vec3::UnitX();
+  *pivot = Vec3::Zero();
+  for (const StrandModel& m : strands) *pivot += m.root_position;
+  if (!strands.empty()) *pivot /= static_cast<double>(strands.size());
+}
+
 bool GroomFrameStrands(const Hairstyle& style, const HairstyleMasters& masters,
                        const std::vector<VecX>& curvatures, const HeadMotion& motion, double t,
                        HairCurves* strands, std::string* why) {
