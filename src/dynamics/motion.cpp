@@ -1,6 +1,7 @@
 // Rigid head motions: presets and keyframes (motion.h; docs/dynamics.md, "Head motion").
 #include "ringlet/motion.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -140,8 +141,12 @@ RigidPose HeadMotion::Pose(double t) const {
                           .toRotationMatrix();
       return pose;
     }
-    size_t k = 0;
-    while (k + 2 < count && t >= keys[k + 1].time) ++k;
+    // The interval [t_k, t_(k+1)) holding t, by bisection (files may hold many keyframes).
+    const auto after = std::upper_bound(keys.begin(), keys.end(), t,
+                                        [](double x, const MotionKeyframe& key) {
+                                          return x < key.time;
+                                        });
+    const size_t k = std::min(static_cast<size_t>(after - keys.begin()) - 1, count - 2);
     // Catmull-Rom tangents (central differences over the neighbours), zero at both ends.
     auto tangent_p = [&](size_t i) -> Vec3 {
       if (i == 0 || i + 1 == count) return Vec3::Zero();

@@ -77,8 +77,8 @@ bool Simulation::Advance(int threads, const std::atomic<bool>* cancel) {
   const size_t count = strands_.size();
   std::vector<StepReport> reports(count);
   std::atomic<bool> cancelled{false};
-  // The frame's end time is k / F exactly (not a sum of steps): the last sub-step takes what is
-  // left, so that frames stay on their time codes however long the run.
+  // The frame's end time is k / F (not a sum of steps): the last sub-step takes what is left
+  // when the steps have drifted, so that frames stay on their time codes however long the run.
   const int next = summary_.frame + 1;
   const double end = next / options_.fps;
   auto step_one = [&](size_t i) {
@@ -90,8 +90,15 @@ bool Simulation::Advance(int threads, const std::atomic<bool>* cancel) {
     StepReport total;
     total.converged = true;
     for (int s = 0; s < options_.substeps; ++s) {
-      const double h = s + 1 == options_.substeps ? end - strand.state().time
-                                                   : options_.dynamics.time_step;
+      // The last sub-step ends at k / F: its length is the nominal h unless the sum of the
+      // steps has drifted from the frame's time by more than 1e-9 h (rounding over many
+      // frames); the nominal length keeps BDF2's equal-step history (it compares lengths).
+      const double nominal = options_.dynamics.time_step;
+      double h = nominal;
+      if (s + 1 == options_.substeps) {
+        const double left = end - strand.state().time;
+        if (std::abs(left - nominal) > 1e-9 * nominal) h = left;
+      }
       const StepReport report = strand.Step(h);
       total.newton_iterations += report.newton_iterations;
       total.halvings = std::max(total.halvings, report.halvings);
