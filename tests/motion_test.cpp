@@ -8,6 +8,9 @@
 #include <string>
 
 #include "ringlet/body.h"
+#include "ringlet/body_json.h"
+#include "ringlet/hair_type.h"
+#include "ringlet/hairstyle.h"
 #include "ringlet/contact.h"
 #include "ringlet/dynamics.h"
 #include "ringlet/motion.h"
@@ -268,6 +271,48 @@ TEST(Simulation, StillHeadKeepsTheEquilibriumAndIsDeterministic) {
   std::string why;
   EXPECT_FALSE(bad.IsValid(&why));
   EXPECT_NE(why.find("fps: "), std::string::npos) << why;
+}
+
+// The children of a simulated groom: at the rest pose the groom's own strands, bit for bit; under a
+// rigid pose the same strands carried rigidly (points and major axes), to float rounding.
+TEST(GroomFrameStrands, ChildrenFollowTheMastersAndTheHead) {
+  Hairstyle style;
+  auto body = std::make_shared<Body>();
+  std::string error;
+  ASSERT_TRUE(LoadBody(std::string(RINGLET_EXAMPLES_DIR) + "/bodies/mannequin.json", body.get(),
+                       &error)) << error;
+  style.body = body;
+  style.scalp = SphereScalp{};
+  style.roots.count = 5;
+  ASSERT_TRUE(FindHairType("caucasian", "wavy", &style.hair_type, &error)) << error;
+  style.length = 0.15;
+  style.segments = 6;
+  style.wisps.strands_per_wisp = 3;
+  style.wisps.points_per_strand = 8;
+  Groom groom;
+  ASSERT_TRUE(GroomHairstyle(style, BatchOptions{}, &groom, &error)) << error;
+  std::vector<VecX> q;
+  for (const StrandSolution& s : groom.solutions) q.push_back(s.curvatures);
+  HairCurves still;
+  ASSERT_TRUE(GroomFrameStrands(style, groom.masters, q, HeadMotion(), 0.0, &still, &error));
+  EXPECT_EQ(still.points, groom.strands.points);
+  EXPECT_EQ(still.major_axes, groom.strands.major_axes);
+  const Vec3 pivot(0, 0, -0.1);
+  const HeadMotion tilted =
+      HeadMotion::Keyframes({{0.0, Vec3(0.01, 0.02, 0.03), Vec3(1, 1, 1), 0.5}}, pivot);
+  HairCurves moved;
+  ASSERT_TRUE(GroomFrameStrands(style, groom.masters, q, tilted, 0.3, &moved, &error));
+  const Mat3 r = Rodrigues(Vec3(1, 1, 1), 0.5);
+  ASSERT_EQ(moved.points.size(), still.points.size());
+  for (size_t i = 0; i < moved.points.size(); ++i) {
+    const Vec3 expected = pivot + Vec3(0.01, 0.02, 0.03) + r * (still.points[i].cast<double>() - pivot);
+    EXPECT_LT((moved.points[i].cast<double>() - expected).norm(), 1e-7) << i;
+    EXPECT_LT((moved.major_axes[i].cast<double>() - r * still.major_axes[i].cast<double>()).norm(), 1e-6);
+  }
+  // A wrong number of curvature vectors is refused.
+  q.pop_back();
+  EXPECT_FALSE(GroomFrameStrands(style, groom.masters, q, HeadMotion(), 0.0, &moved, &error));
+  EXPECT_NE(error.find("curvatures"), std::string::npos) << error;
 }
 
 }  // namespace
