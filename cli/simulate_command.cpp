@@ -435,6 +435,12 @@ int RunSimulate(const SimulateArgs& args) {
     } else {
       video = true;
     }
+    // With --force, a video of an earlier run must not stay beside the new frames.
+    std::error_code ignored;
+    const fs::path stale = fs::path(args.output_dir) / "hair.mp4";
+    if (!video && fs::is_regular_file(fs::symlink_status(stale, ignored))) {
+      fs::remove(stale, ignored);
+    }
   }
 
   if (!args.quiet) {

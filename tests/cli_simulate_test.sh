@@ -209,6 +209,15 @@ if grep -q "^ringlet: warning: ffmpeg is not on PATH: no hair.mp4" "$work/stderr
 fi
 expect_files "render without ffmpeg" "$work/r2" hair.usda frames.jsonl frame_0000.png \
   frame_0001.png frame_0002.png frame_0003.png
+# --force over a run that made a video, now without ffmpeg: no stale hair.mp4 stays.
+if command -v ffmpeg >/dev/null; then
+  (cd / && PATH=/nonexistent "$RINGLET" simulate "$SMALL" -o "$work/r" --motion turn \
+    --duration 0.125 --render --width 48 --height 40 --spp 1 --force) >"$work/stdout" 2>"$work/stderr"
+  rc=$?
+  expect_rc "render again without ffmpeg" 0
+  expect_files "render again without ffmpeg" "$work/r" hair.usda frames.jsonl frame_0000.png \
+    frame_0001.png frame_0002.png frame_0003.png
+fi
 
 # --- SIGTERM during the simulation: no output directory, no temporaries -----------------------
 (cd / && exec "$RINGLET" simulate "$SMALL" -o "$work/t" --motion walk --duration 600 -q) &
