@@ -52,6 +52,9 @@ Command AddConvertCommand(CLI::App* parent);
 /// `ringlet invert TARGET -o OUTDIR/`: rest shapes that hold target strands (inverse statics).
 Command AddInvertCommand(CLI::App* parent);
 
+/// `ringlet simulate INPUT -o OUTDIR/ --motion MOTION`: hair in motion (docs/dynamics.md).
+Command AddSimulateCommand(CLI::App* parent);
+
 /// `ringlet batch SPEC -o OUTDIR [--shard K/N] [--items A:B]`: a dataset of grooms (batch.h).
 Command AddBatchCommand(CLI::App* parent);
 

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
       ringlet::cli::AddConvertCommand(&app),
       ringlet::cli::AddInvertCommand(&app),
       ringlet::cli::AddBatchCommand(&app),
+      ringlet::cli::AddSimulateCommand(&app),
   };
 
   // CLI11 would report an unknown command word as "A subcommand is required": name it instead.

@@ -119,6 +119,7 @@ void BindInverse(py::module_& m);  // after BindSolve (it extends StrandModel)
 void BindBody(py::module_& m);
 void BindEnergy(py::module_& m);  // after BindSolve (its EnergyTerms)
 void BindBatch(py::module_& m);  // datasets (batch.h): one item at a time, for the engines
+void BindSimulate(py::module_& m);  // after BindHair (its Groom and Hairstyle)
 /// Pickling, copy.copy/deepcopy and repr of the values (after the others: extends their classes).
 void BindValues(py::module_& m);
 

@@ -261,5 +261,6 @@ PYBIND11_MODULE(_ringlet, m) {
   BindBody(m);
   BindEnergy(m);
   BindBatch(m);
+  BindSimulate(m);
   BindValues(m);
 }

@@ -16,6 +16,7 @@ packages=(
   clang-14 libclang-rt-14-dev
   blender  # the Blender add-on's tests (tests/blender/, headless Blender 3.4.1 with Cycles)
   slurm-wlm munge  # tests/slurm_test.sh: a real Slurm 22.05 (slurmctld, slurmd, munged) on loopback
+  ffmpeg  # `ringlet simulate --render`'s hair.mp4 (tests/cli_simulate_test.sh)
 )
 
 missing=()

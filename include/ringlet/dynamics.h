@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -77,6 +78,9 @@ struct StepReport {
   int substeps = 0;            ///< implicit sub-steps taken (1 without halving)
   int halvings = 0;            ///< deepest halving used (0 = the full step)
   int newton_iterations = 0;   ///< over all sub-steps, failed tries included
+  /// The size of the last Newton update of the last sub-step, sum_i l_i |dOmega_i| (rad): below
+  /// options.tolerance when converged (0 when the step failed).
+  double residual = 0.0;
   EnergyTerms potential;       ///< potential energy terms after the step (J)
   double kinetic = 0.0;        ///< kinetic energy after the step (J)
 };
@@ -113,6 +117,12 @@ Modes ComputeModes(const StrandModel& model, const VecX& curvatures, int count =
 struct ClampMotion {
   std::function<Vec3(double)> position;  ///< r(0) at time t (m, world)
   std::function<Mat3(double)> frame;     ///< root frame (n1, n2, t) at time t, a proper rotation
+  /// Whether the model's obstacle (contact.obstacle: the head) moves rigidly with the clamp: at
+  /// time t it is the obstacle of the model given to StrandDynamics carried by the rigid motion
+  /// that takes that model's root (root_position, root_frame) to (position(t), frame(t)),
+  ///   x -> position(t) + frame(t) frame0^T (x - position0).
+  /// False: the obstacle stays where it is (a strand brushing past a fixed body).
+  bool carries_obstacle = false;
 };
 
 /// Time integration of one strand by an implicit scheme (Integrator) in the form of an
@@ -164,6 +174,8 @@ class StrandDynamics {
 
  private:
   bool TryStep(double h, int* iterations, std::string* why);
+  // Puts the root (and with carries_obstacle the obstacle) of *model where the clamp is at t.
+  bool PlaceClamp(double t, StrandModel* model) const;
   void Accept(const StrandModel& stepped, const VecX& curvatures, double h, bool bdf2);
 
   StrandModel model_;
@@ -175,6 +187,11 @@ class StrandDynamics {
   SampleMotion motion_;           // of state_
   SampleMotion previous_motion_;  // of previous_
   ClampMotion clamp_;             // empty: the root stays where model_ puts it
+  // The root and obstacle of the model as given (ClampMotion::carries_obstacle's reference).
+  Vec3 reference_root_ = Vec3::Zero();
+  Mat3 reference_frame_ = Mat3::Identity();
+  std::shared_ptr<const Obstacle> reference_obstacle_;
+  double last_update_ = 0.0;  // the last Newton update of TryStep (rad)
 };
 
 }  // namespace ringlet

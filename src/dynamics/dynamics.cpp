@@ -48,6 +48,36 @@ bool DynamicsOptions::IsValid(std::string* why) const {
 
 namespace {
 
+// An obstacle carried by a rigid motion x -> translation + rotation x (ClampMotion::
+// carries_obstacle): d'(x) = d(R^T (x - t)), grad d' = R grad d, Hess d' = R Hess d R^T.
+class MovedObstacle final : public Obstacle {
+ public:
+  MovedObstacle(std::shared_ptr<const Obstacle> base, const Mat3& rotation, const Vec3& translation)
+      : base_(std::move(base)), rotation_(rotation), translation_(translation) {}
+  double SignedDistance(const Vec3& x, Vec3* gradient) const override {
+    Vec3 g;
+    const double d = base_->SignedDistance(rotation_.transpose() * (x - translation_),
+                                           gradient ? &g : nullptr);
+    if (gradient) *gradient = rotation_ * g;
+    return d;
+  }
+  double SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian) const override {
+    Vec3 g;
+    Mat3 h;
+    const double d = base_->SignedDistanceHessian(rotation_.transpose() * (x - translation_),
+                                                  gradient ? &g : nullptr,
+                                                  hessian ? &h : nullptr);
+    if (gradient) *gradient = rotation_ * g;
+    if (hessian) *hessian = rotation_ * h * rotation_.transpose();
+    return d;
+  }
+
+ private:
+  std::shared_ptr<const Obstacle> base_;
+  Mat3 rotation_;
+  Vec3 translation_;
+};
+
 void CheckInputs(const StrandModel& model, const DynamicsOptions& options, const VecX& curvatures,
                  const VecX* rates) {
   std::string why;
@@ -341,11 +371,28 @@ void StrandDynamics::SetClampMotion(ClampMotion clamp) {
     throw std::invalid_argument("clamp motion needs both a position and a frame function");
   }
   clamp_ = std::move(clamp);
-  model_.root_position = clamp_.position(state_.time);
-  model_.root_frame = clamp_.frame(state_.time);
+  reference_root_ = model_.root_position;
+  reference_frame_ = model_.root_frame;
+  reference_obstacle_ = model_.contact.obstacle;
   std::string why;
+  if (!PlaceClamp(state_.time, &model_)) {
+    throw std::invalid_argument("clamp motion at t = 0: non-finite position or frame");
+  }
   if (!IsValid(model_, &why)) throw std::invalid_argument("clamp motion at t = 0: " + why);
   motion_ = MotionFromRates(model_, state_, GaussLegendre01(options_.mass_points), &clamp_);
+}
+
+bool StrandDynamics::PlaceClamp(double t, StrandModel* model) const {
+  model->root_position = clamp_.position(t);
+  model->root_frame = clamp_.frame(t);
+  if (!model->root_position.allFinite() || !model->root_frame.allFinite()) return false;
+  if (clamp_.carries_obstacle && reference_obstacle_) {
+    // x -> p(t) + F(t) F0^T (x - p0) = R x + (p(t) - R p0).
+    const Mat3 rotation = model->root_frame * reference_frame_.transpose();
+    model->contact.obstacle = std::make_shared<MovedObstacle>(
+        reference_obstacle_, rotation, model->root_position - rotation * reference_root_);
+  }
+  return true;
 }
 
 double StrandDynamics::Kinetic() const {
@@ -386,13 +433,9 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
   const bool bdf2 = options_.integrator == Integrator::kBdf2 && has_history_ && previous_h_ == h;
   // The model at the end of the step: the clamp where its motion puts it then.
   StrandModel stepped = model_;
-  if (clamp_.position) {
-    stepped.root_position = clamp_.position(state_.time + h);
-    stepped.root_frame = clamp_.frame(state_.time + h);
-    if (!stepped.root_position.allFinite() || !stepped.root_frame.allFinite()) {
-      *why = "the clamp motion gave a non-finite position or frame";
-      return false;
-    }
+  if (clamp_.position && !PlaceClamp(state_.time + h, &stepped)) {
+    *why = "the clamp motion gave a non-finite position or frame";
+    return false;
   }
   IncrementalPotential phi(stepped, options_, rule, state_, motion_, bdf2 ? &previous_ : nullptr,
                            bdf2 ? &previous_motion_ : nullptr, h);
@@ -437,6 +480,7 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
     const double slope = gradient.dot(step);  // < 0
     if (change <= options_.tolerance) {
       q += step;
+      last_update_ = change;
       Accept(stepped, q, h, bdf2);
       return true;
     }
@@ -468,6 +512,7 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
     value = trial_value;
     gradient = trial_gradient;
     if (alpha * change <= options_.tolerance) {
+      last_update_ = alpha * change;
       Accept(stepped, q, h, bdf2);
       return true;
     }
@@ -511,6 +556,7 @@ void StrandDynamics::Accept(const StrandModel& stepped, const VecX& q, double h,
   state_.time += h;
   model_.root_position = stepped.root_position;
   model_.root_frame = stepped.root_frame;
+  model_.contact.obstacle = stepped.contact.obstacle;
 }
 
 StepReport StrandDynamics::Step() { return Step(options_.time_step); }
@@ -524,6 +570,7 @@ StepReport StrandDynamics::Step(double h) {
   const SampleMotion saved_motion = motion_, saved_previous_motion = previous_motion_;
   const Vec3 saved_root = model_.root_position;
   const Mat3 saved_frame = model_.root_frame;
+  const std::shared_ptr<const Obstacle> saved_obstacle = model_.contact.obstacle;
   const double saved_previous_h = previous_h_;
   const bool saved_history = has_history_;
   std::string why, first_why;
@@ -558,6 +605,7 @@ StepReport StrandDynamics::Step(double h) {
     previous_motion_ = saved_previous_motion;
     model_.root_position = saved_root;
     model_.root_frame = saved_frame;
+    model_.contact.obstacle = saved_obstacle;
     previous_h_ = saved_previous_h;
     has_history_ = saved_history;
     std::ostringstream out;
@@ -567,6 +615,7 @@ StepReport StrandDynamics::Step(double h) {
     report.converged = false;
   } else {
     report.converged = true;
+    report.residual = last_update_;
     if (report.halvings > 0) {
       std::ostringstream out;
       out << "step of " << h << " s at t = " << saved.time << " s halved " << report.halvings
