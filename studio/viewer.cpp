@@ -273,7 +273,40 @@ Eigen::Matrix4f OrbitCamera::Projection(float aspect) const {
 
 void OrbitCamera::Orbit(float dyaw, float dpitch) {
   yaw += dyaw;
-  pitch = std::clamp(pitch + dpitch, -1.5f, 1.5f);
+  pitch = std::clamp(pitch + dpitch, -kMaxPitch, kMaxPitch);
+}
+
+void OrbitCamera::LookFrom(const Eigen::Vector3f& direction) {
+  const float n = direction.norm();
+  if (!(n > 0.0f)) return;
+  const Eigen::Vector3f b = direction / n;
+  // Position() - target = distance (sin yaw cos pitch, -cos yaw cos pitch, sin pitch).
+  pitch = std::clamp(std::asin(std::clamp(b.z(), -1.0f, 1.0f)), -kMaxPitch, kMaxPitch);
+  if (b.x() != 0.0f || b.y() != 0.0f) yaw = std::atan2(b.x(), -b.y());
+}
+
+void OrbitCamera::SetView(ViewSide side) {
+  const float pi = 3.1415927f;
+  switch (side) {
+    case ViewSide::kFront:
+      yaw = pi, pitch = 0.0f;
+      break;
+    case ViewSide::kBack:
+      yaw = 0.0f, pitch = 0.0f;
+      break;
+    case ViewSide::kRight:  // the head's right (+x)
+      yaw = 0.5f * pi, pitch = 0.0f;
+      break;
+    case ViewSide::kLeft:
+      yaw = -0.5f * pi, pitch = 0.0f;
+      break;
+    case ViewSide::kTop:
+      yaw = pi, pitch = kMaxPitch;
+      break;
+    case ViewSide::kBottom:
+      yaw = pi, pitch = -kMaxPitch;
+      break;
+  }
 }
 
 void OrbitCamera::Pan(float dx, float dy) {
@@ -300,7 +333,7 @@ Viewer::Viewer() = default;
 Viewer::~Viewer() {
   if (hair_vao_) glDeleteVertexArrays(1, &hair_vao_);
   if (body_vao_) glDeleteVertexArrays(1, &body_vao_);
-  const unsigned buffers[] = {hair_vbo_, flag_vbo_, hair_ebo_, master_ebo_, body_vbo_};
+  const unsigned buffers[] = {hair_vbo_, flag_vbo_, hair_ebo_, body_vbo_};
   for (unsigned b : buffers) {
     if (b) glDeleteBuffers(1, &b);
   }
@@ -327,7 +360,6 @@ bool Viewer::Init(std::string* error) {
   glGenBuffers(1, &hair_vbo_);
   glGenBuffers(1, &flag_vbo_);
   glGenBuffers(1, &hair_ebo_);
-  glGenBuffers(1, &master_ebo_);
   glGenVertexArrays(1, &body_vao_);
   glGenBuffers(1, &body_vbo_);
   return true;
@@ -375,29 +407,47 @@ void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
     data[4 * i + 3] = c.widths[i];
     bounds_.extend(c.points[i]);
   }
-  // Segments of every strand, and of the masters only (the first strand of each wisp).
+  // The segments in drawing order: the masters (the first strand of each wisp) first, then the
+  // first child of every wisp, the second, ...; wisps in the order of the radical inverse of
+  // their index (van der Corput, base 2), so that any prefix of the order (the preview density,
+  // Draw's max_segments) is the masters and an even subset of the children.
   const int masters = static_cast<int>(hair->styled.masters.models.size());
-  const int per_wisp = masters > 0 ? c.NumStrands() / masters : 1;
-  std::vector<std::uint32_t> all, master;
+  const int per_wisp = masters > 0 ? std::max(1, c.NumStrands() / masters) : 1;
+  std::vector<std::uint32_t> first_point(c.NumStrands() + 1, 0);
+  for (int k = 0; k < c.NumStrands(); ++k) first_point[k + 1] = first_point[k] + c.point_counts[k];
+  std::vector<int> wisp_order(masters);
+  for (int i = 0; i < masters; ++i) wisp_order[i] = i;
+  const auto radical_inverse = [](std::uint32_t i) {
+    std::uint32_t r = 0;
+    for (int b = 0; b < 32; ++b, i >>= 1) r = (r << 1) | (i & 1u);
+    return r;
+  };
+  std::stable_sort(wisp_order.begin(), wisp_order.end(), [&](int a, int b) {
+    return radical_inverse(static_cast<std::uint32_t>(a)) <
+           radical_inverse(static_cast<std::uint32_t>(b));
+  });
+  std::vector<std::uint32_t> all;
   all.reserve(2 * c.points.size());
-  strand_of_master_.assign(masters, 0);
-  std::uint32_t first = 0;
-  for (int k = 0; k < c.NumStrands(); ++k) {
-    const bool is_master = per_wisp > 0 && k % per_wisp == 0;
-    if (is_master && k / per_wisp < masters) strand_of_master_[k / per_wisp] = k;
-    for (std::uint32_t j = 0; j + 1 < c.point_counts[k]; ++j) {
-      all.push_back(first + j);
-      all.push_back(first + j + 1);
-      if (is_master) {
-        master.push_back(first + j);
-        master.push_back(first + j + 1);
-      }
+  const auto add_strand = [&](int k) {
+    for (std::uint32_t p = first_point[k]; p + 1 < first_point[k + 1]; ++p) {
+      all.push_back(p);
+      all.push_back(p + 1);
     }
-    first += c.point_counts[k];
+  };
+  strand_of_master_.assign(masters, 0);
+  for (int j = 0; j < per_wisp; ++j) {
+    for (const int w : wisp_order) {
+      const int k = w * per_wisp + j;
+      if (k < c.NumStrands()) add_strand(k);
+      if (j == 0) strand_of_master_[w] = static_cast<std::uint32_t>(k);
+    }
+    if (j == 0) master_indices_ = static_cast<long>(all.size());
   }
-  last_upload_bytes_ = static_cast<long>((data.size() + all.size() + master.size()) * 4);
+  // Strands beyond masters x per_wisp (none in the hairstyle's layout) come last.
+  for (int k = masters * per_wisp; k < c.NumStrands(); ++k) add_strand(k);
+  if (masters == 0) master_indices_ = 0;
+  last_upload_bytes_ = static_cast<long>((data.size() + all.size()) * 4);
   hair_indices_ = static_cast<long>(all.size());
-  master_indices_ = static_cast<long>(master.size());
   glBindVertexArray(hair_vao_);
   glBindBuffer(GL_ARRAY_BUFFER, hair_vbo_);
   glBufferData(GL_ARRAY_BUFFER, data.size() * sizeof(float), data.data(), GL_STATIC_DRAW);
@@ -408,8 +458,6 @@ void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
                         reinterpret_cast<void*>(3 * sizeof(float)));
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, hair_ebo_);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, all.size() * 4, all.data(), GL_STATIC_DRAW);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, master_ebo_);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, master.size() * 4, master.data(), GL_STATIC_DRAW);
   glBindVertexArray(0);
   UploadFlags();
   if (hair->styled.style.body.get() != body_) {
@@ -506,7 +554,7 @@ void Viewer::UploadBody(const Body& body) {
 }
 
 void Viewer::Draw(const OrbitCamera& camera, const HairLook& look, int x0, int full_width,
-                  int height) {
+                  int height, long max_segments) {
   glViewport(0, 0, full_width, height);
   glClearColor(0.16f, 0.17f, 0.2f, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -515,8 +563,17 @@ void Viewer::Draw(const OrbitCamera& camera, const HairLook& look, int x0, int f
   glEnable(GL_DEPTH_TEST);
   const Eigen::Matrix4f vp =
       camera.Projection(static_cast<float>(width) / std::max(1, height)) * camera.View();
-  const Eigen::Vector3f light = Eigen::Vector3f(-0.5f, -1.0f, 1.0f).normalized();
   const Eigen::Vector3f eye = camera.Position();
+  // The key light: the hairstyle's (fixed in the scene, as the path tracer's), or a headlight
+  // from the camera, raised a little (a quarter of the view's up) so that the hair keeps some
+  // modelling.
+  Eigen::Vector3f light = look.key_light;
+  if (look.headlight) {
+    const Eigen::Matrix4f view = camera.View();
+    const Eigen::Vector3f back = -view.block<1, 3>(2, 0).transpose();  // toward the eye
+    const Eigen::Vector3f up = view.block<1, 3>(1, 0).transpose();
+    light = (back + 0.25f * up).normalized();
+  }
   if (body_vertices_ > 0) {
     glUseProgram(body_program_);
     SetMatrix(body_program_, "view_projection", vp);
@@ -546,9 +603,9 @@ void Viewer::Draw(const OrbitCamera& camera, const HairLook& look, int x0, int f
     glUniform1f(glGetUniformLocation(hair_program_, "pixels_per_unit"),
                 0.5f * height / std::tan(0.5f * camera.fov));
     glBindVertexArray(hair_vao_);
-    const bool masters = look.masters_only;
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, masters ? master_ebo_ : hair_ebo_);
-    const long n = masters ? master_indices_ : hair_indices_;
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, hair_ebo_);
+    long n = look.masters_only ? master_indices_ : hair_indices_;
+    if (max_segments >= 0) n = std::min(n, 2 * max_segments);
     glDrawElements(GL_LINES, static_cast<GLsizei>(n), GL_UNSIGNED_INT, nullptr);
     drawn_segments_ = n / 2;
     glDisable(GL_BLEND);
