@@ -165,6 +165,8 @@ struct App {
   double segments_per_second = 0.0;
   long preview_budget = kFirstPreview;
   double draw_seconds = 0.0;  // the last frame's hair and body (with glFinish)
+  long fixed_preview = -1;    // --preview-segments: a fixed budget instead of the measured one
+  bool screenshot_key = false;  // F12 pressed: save this frame as studio-NNN.png
   bool brush_mode = false;
   float brush_radius = 30.0f;
   bool brush_only = true;  // operations act on the brushed masters only (when any)
@@ -1311,6 +1313,9 @@ void Shortcut(App* app, const InputEvent& e) {
     case GLFW_KEY_M:
       if (press && !ctrl) app->look.masters_only = !app->look.masters_only;
       break;
+    case GLFW_KEY_F12:
+      if (press) app->screenshot_key = true;
+      break;
     // The view keys (numpad-like, the digits of the top row or of the keypad): 1 front, 3 the
     // head's right side, 7 top; with Ctrl the opposite view (back, left side, bottom).
     case GLFW_KEY_1:
@@ -1482,6 +1487,9 @@ void WriteReport(App* app) {
   app->last_report = std::move(text);
 }
 
+// Declared here: Frame writes the F12 screenshot.
+bool Screenshot(App* app, const std::string& path, std::string* error);
+
 // One frame: sync, the events of the frame, panel, draw (the 3D view right of the panel).
 void Frame(App* app) {
   Sync(app);
@@ -1523,12 +1531,30 @@ void Frame(App* app) {
       preview && drawn < (app->look.masters_only ? app->viewer.MasterSegments()
                                                  : app->viewer.TotalSegments());
   // The budget: the segments drawn in kPreviewSeconds at the measured rate.
-  if (drawn >= kMinPreview && app->draw_seconds > 0.0) {
+  if (app->fixed_preview >= 0) {
+    app->preview_budget = app->fixed_preview;
+  } else if (drawn >= kMinPreview && app->draw_seconds > 0.0) {
     app->segments_per_second = drawn / app->draw_seconds;
     app->preview_budget = std::clamp(
         static_cast<long>(app->segments_per_second * kPreviewSeconds), kMinPreview, kMaxPreview);
   }
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  if (app->screenshot_key) {
+    // F12: the window as drawn, to the first free studio-NNN.png of the working directory.
+    app->screenshot_key = false;
+    for (int n = 1; n < 1000; ++n) {
+      char name[32];
+      std::snprintf(name, sizeof(name), "studio-%03d.png", n);
+      if (Exists(name)) continue;
+      std::string error;
+      if (Screenshot(app, name, &error)) {
+        app->message = std::string("wrote ") + name;
+      } else {
+        Report(app, error);
+      }
+      break;
+    }
+  }
   ++app->frames;
   WriteReport(app);
   if (app->min_frame_seconds > 0.0) {
@@ -1919,6 +1945,7 @@ int Main(int argc, char** argv) {
   std::string hairstyle, script, screenshot, report;
   int width = 1280, height = 800;
   double min_frame_seconds = 0.0;
+  long preview_segments = -1;
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
     if (a == "--script" && k + 1 < argc) {
@@ -1934,6 +1961,13 @@ int Main(int argc, char** argv) {
         std::fprintf(stderr, "ringlet-studio: --min-frame-seconds: expected seconds in [0, 10]\n");
         return 1;
       }
+    } else if (a == "--preview-segments" && k + 1 < argc) {
+      char* end = nullptr;
+      preview_segments = std::strtol(argv[++k], &end, 10);
+      if (!end || *end != '\0' || preview_segments < 0) {
+        std::fprintf(stderr, "ringlet-studio: --preview-segments: expected a count >= 0\n");
+        return 1;
+      }
     } else if (a == "--size" && k + 1 < argc) {
       if (std::sscanf(argv[++k], "%dx%d", &width, &height) != 2 || width < 64 || height < 64) {
         std::fprintf(stderr, "ringlet-studio: --size: expected WxH (e.g. 1280x800)\n");
@@ -1942,13 +1976,15 @@ int Main(int argc, char** argv) {
     } else if (a == "-h" || a == "--help") {
       std::printf(
           "usage: ringlet-studio [HAIRSTYLE.json] [--script FILE] [--screenshot OUT.png] "
-          "[--size WxH] [--report FILE] [--min-frame-seconds S]\n"
+          "[--size WxH] [--report FILE] [--min-frame-seconds S] [--preview-segments N]\n"
           "  --screenshot OUT.png  with --script: the last frame; without: the first solved\n"
           "                        frame of HAIRSTYLE.json, then exit\n"
           "  --report FILE         after each frame, the widgets' rectangles and the document\n"
           "                        as JSON (for tests that drive the window with input events)\n"
           "  --min-frame-seconds S each frame lasts at least S (tests of input at low frame\n"
-          "                        rates)\n");
+          "                        rates)\n"
+          "  --preview-segments N  the preview density's budget of segments (while the camera\n"
+          "                        moves or a solve runs); by default from the measured speed\n");
       return 0;
     } else if (!a.empty() && a[0] != '-' && hairstyle.empty()) {
       hairstyle = a;
@@ -2007,6 +2043,8 @@ int Main(int argc, char** argv) {
     app.report_path = report;
     app.min_frame_seconds = script.empty() ? min_frame_seconds : 0.0;
     app.allow_preview = script.empty() && screenshot.empty();
+    app.fixed_preview = preview_segments;
+    if (preview_segments >= 0) app.preview_budget = preview_segments;
     glfwSetWindowUserPointer(window, &app);
     glfwGetCursorPos(window, &app.cursor_x, &app.cursor_y);
     InstallCallbacks(window);
