@@ -162,6 +162,7 @@ struct App {
   double last_motion = -1e9;
   OrbitCamera drawn_camera;
   bool preview_shown = false;
+  bool refining = false;  // the full-density picture is still being drawn (DrawRefining)
   double segments_per_second = 0.0;
   long preview_budget = kFirstPreview;
   double draw_seconds = 0.0;  // the last frame's hair and body (with glFinish)
@@ -1469,6 +1470,7 @@ void WriteReport(App* app) {
   r["segments_total"] = app->viewer.TotalSegments();
   r["master_segments"] = app->viewer.MasterSegments();
   r["preview"] = app->preview_shown;
+  r["refining"] = app->refining;
   r["preview_budget"] = app->preview_budget;
   r["draw_seconds"] = app->draw_seconds;
   r["cut_tool"] = app->cut_tool;
@@ -1520,16 +1522,23 @@ void Frame(App* app) {
   const bool preview =
       app->allow_preview && (app->session.Busy() || now - app->last_motion < kStillSeconds);
   const auto draw_start = std::chrono::steady_clock::now();
-  app->viewer.Draw(app->camera, app->look, PanelPixels(app), w, h,
-                   preview ? app->preview_budget : -1);
+  app->refining = false;
+  if (preview || !app->allow_preview) {
+    app->viewer.Draw(app->camera, app->look, PanelPixels(app), w, h,
+                     preview ? app->preview_budget : -1);
+  } else {
+    // Full density, a budget of segments per frame (DrawRefining): the UI keeps up meanwhile.
+    app->refining = !app->viewer.DrawRefining(app->camera, app->look, PanelPixels(app), w, h,
+                                              app->preview_budget);
+  }
+  const long drawn = app->viewer.LastDrawSegments();
   glFinish();  // the draw's time (llvmpipe draws here; a GPU waits for a few milliseconds)
   app->draw_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - draw_start).count();
   app->drawn_camera = app->camera;
-  const long drawn = app->viewer.DrawnSegments();
-  app->preview_shown =
-      preview && drawn < (app->look.masters_only ? app->viewer.MasterSegments()
-                                                 : app->viewer.TotalSegments());
+  const long full = app->look.masters_only ? app->viewer.MasterSegments()
+                                           : app->viewer.TotalSegments();
+  app->preview_shown = preview && app->viewer.DrawnSegments() < full;
   // The budget: the segments drawn in kPreviewSeconds at the measured rate.
   if (app->fixed_preview >= 0) {
     app->preview_budget = app->fixed_preview;
@@ -1606,6 +1615,7 @@ bool Screenshot(App* app, const std::string& path, std::string* error) {
 // second.
 void RunInteractive(App* app) {
   while (!app->quit) {
+    if (app->refining) app->redraw_frames = std::max(app->redraw_frames, 1);
     if (app->events.empty() && app->redraw_frames <= 0) {
       const double still_in = app->last_motion + kStillSeconds - glfwGetTime();
       if (app->session.Busy() || app->render.running) {

@@ -145,6 +145,26 @@ out vec4 out_colour;
 void main() { out_colour = colour; }
 )";
 
+// The refining picture on screen: a triangle over the view, the off-screen colour and depth.
+const char* kCompositeVertex = R"(#version 330 core
+void main() {
+  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
+  gl_Position = vec4(p, 0.0, 1.0);
+}
+)";
+const char* kCompositeFragment = R"(#version 330 core
+uniform sampler2D colour;
+uniform sampler2D depth;
+uniform vec2 origin;
+uniform vec2 size;
+out vec4 out_colour;
+void main() {
+  vec2 uv = (gl_FragCoord.xy - origin) / size;
+  out_colour = texture(colour, uv);
+  gl_FragDepth = texture(depth, uv).r;
+}
+)";
+
 unsigned Compile(GLenum type, const char* source, std::string* error) {
   const unsigned shader = glCreateShader(type);
   glShaderSource(shader, 1, &source, nullptr);
@@ -342,6 +362,10 @@ Viewer::~Viewer() {
   if (gizmo_vao_) glDeleteVertexArrays(1, &gizmo_vao_);
   if (gizmo_vbo_) glDeleteBuffers(1, &gizmo_vbo_);
   if (body_program_) glDeleteProgram(body_program_);
+  if (composite_program_) glDeleteProgram(composite_program_);
+  if (refine_fbo_) glDeleteFramebuffers(1, &refine_fbo_);
+  if (refine_colour_) glDeleteTextures(1, &refine_colour_);
+  if (refine_depth_) glDeleteTextures(1, &refine_depth_);
 }
 
 bool Viewer::Init(std::string* error) {
@@ -353,7 +377,10 @@ bool Viewer::Init(std::string* error) {
       Link({{GL_VERTEX_SHADER, kBodyVertex}, {GL_FRAGMENT_SHADER, kBodyFragment}}, error);
   gizmo_program_ =
       Link({{GL_VERTEX_SHADER, kGizmoVertex}, {GL_FRAGMENT_SHADER, kGizmoFragment}}, error);
-  if (!hair_program_ || !body_program_ || !gizmo_program_) return false;
+  composite_program_ =
+      Link({{GL_VERTEX_SHADER, kCompositeVertex}, {GL_FRAGMENT_SHADER, kCompositeFragment}},
+           error);
+  if (!hair_program_ || !body_program_ || !gizmo_program_ || !composite_program_) return false;
   glGenVertexArrays(1, &gizmo_vao_);
   glGenBuffers(1, &gizmo_vbo_);
   glGenVertexArrays(1, &hair_vao_);
@@ -395,6 +422,7 @@ void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
     return;
   }
   hair_ = hair;
+  ++hair_version_;
   bounds_.setEmpty();
   if (!hair || !hair->strands) return;
   const HairCurves& c = *hair->strands;
@@ -479,6 +507,7 @@ void Viewer::SetBrush(const std::vector<int>& masters) {
 }
 
 void Viewer::UploadFlags() {
+  ++hair_version_;
   if (!hair_ || !hair_->strands) return;
   const HairCurves& c = *hair_->strands;
   const int masters = static_cast<int>(hair_->styled.masters.models.size());
@@ -553,6 +582,63 @@ void Viewer::UploadBody(const Body& body) {
   glBindVertexArray(0);
 }
 
+Viewer::Scene Viewer::MakeScene(const OrbitCamera& camera, const HairLook& look, int width,
+                                int height) const {
+  Scene scene;
+  scene.vp = camera.Projection(static_cast<float>(width) / std::max(1, height)) * camera.View();
+  scene.eye = camera.Position();
+  // The key light: the hairstyle's (fixed in the scene, as the path tracer's), or a headlight
+  // from the camera, raised a little (a quarter of the view's up) so that the hair keeps some
+  // modelling.
+  scene.light = look.key_light;
+  if (look.headlight) {
+    const Eigen::Matrix4f view = camera.View();
+    const Eigen::Vector3f back = -view.block<1, 3>(2, 0).transpose();  // toward the eye
+    const Eigen::Vector3f up = view.block<1, 3>(1, 0).transpose();
+    scene.light = (back + 0.25f * up).normalized();
+  }
+  scene.pixels_per_unit = 0.5f * height / std::tan(0.5f * camera.fov);
+  scene.segments = (look.masters_only ? master_indices_ : hair_indices_) / 2;
+  if (!hair_ || !hair_->strands) scene.segments = 0;
+  return scene;
+}
+
+void Viewer::DrawBody(const Scene& scene) {
+  if (body_vertices_ <= 0) return;
+  glUseProgram(body_program_);
+  SetMatrix(body_program_, "view_projection", scene.vp);
+  SetVec3(body_program_, "light", scene.light);
+  glBindVertexArray(body_vao_);
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(body_vertices_));
+}
+
+void Viewer::DrawHair(const Scene& scene, const HairLook& look, long first, long count) {
+  if (count <= 0 || !hair_ || !hair_->strands) return;
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glUseProgram(hair_program_);
+  SetMatrix(hair_program_, "view_projection", scene.vp);
+  SetVec3(hair_program_, "eye", scene.eye);
+  SetVec3(hair_program_, "light", scene.light);
+  SetVec3(hair_program_, "colour", look.colour);
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  float radius = 0.1f;
+  if (const auto* s = std::get_if<SphereScalp>(&hair_->styled.style.scalp)) {
+    centre = s->head.centre.cast<float>();
+    radius = static_cast<float>(s->radius);
+  }
+  SetVec3(hair_program_, "head_centre", centre);
+  glUniform1f(glGetUniformLocation(hair_program_, "head_radius"), radius);
+  glUniform1i(glGetUniformLocation(hair_program_, "highlight_masters"),
+              look.highlight_masters || look.masters_only ? 1 : 0);
+  glUniform1f(glGetUniformLocation(hair_program_, "pixels_per_unit"), scene.pixels_per_unit);
+  glBindVertexArray(hair_vao_);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, hair_ebo_);
+  glDrawElements(GL_LINES, static_cast<GLsizei>(2 * count), GL_UNSIGNED_INT,
+                 reinterpret_cast<void*>(static_cast<std::uintptr_t>(2 * first * 4)));
+  glDisable(GL_BLEND);
+}
+
 void Viewer::Draw(const OrbitCamera& camera, const HairLook& look, int x0, int full_width,
                   int height, long max_segments) {
   glViewport(0, 0, full_width, height);
@@ -561,58 +647,97 @@ void Viewer::Draw(const OrbitCamera& camera, const HairLook& look, int x0, int f
   const int width = std::max(1, full_width - x0);
   glViewport(x0, 0, width, height);
   glEnable(GL_DEPTH_TEST);
-  const Eigen::Matrix4f vp =
-      camera.Projection(static_cast<float>(width) / std::max(1, height)) * camera.View();
-  const Eigen::Vector3f eye = camera.Position();
-  // The key light: the hairstyle's (fixed in the scene, as the path tracer's), or a headlight
-  // from the camera, raised a little (a quarter of the view's up) so that the hair keeps some
-  // modelling.
-  Eigen::Vector3f light = look.key_light;
-  if (look.headlight) {
-    const Eigen::Matrix4f view = camera.View();
-    const Eigen::Vector3f back = -view.block<1, 3>(2, 0).transpose();  // toward the eye
-    const Eigen::Vector3f up = view.block<1, 3>(1, 0).transpose();
-    light = (back + 0.25f * up).normalized();
-  }
-  if (body_vertices_ > 0) {
-    glUseProgram(body_program_);
-    SetMatrix(body_program_, "view_projection", vp);
-    SetVec3(body_program_, "light", light);
-    glBindVertexArray(body_vao_);
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(body_vertices_));
-  }
-  drawn_segments_ = 0;
-  if (hair_ && hair_->strands && hair_indices_ > 0) {
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    glUseProgram(hair_program_);
-    SetMatrix(hair_program_, "view_projection", vp);
-    SetVec3(hair_program_, "eye", eye);
-    SetVec3(hair_program_, "light", light);
-    SetVec3(hair_program_, "colour", look.colour);
-    Eigen::Vector3f centre = Eigen::Vector3f::Zero();
-    float radius = 0.1f;
-    if (const auto* s = std::get_if<SphereScalp>(&hair_->styled.style.scalp)) {
-      centre = s->head.centre.cast<float>();
-      radius = static_cast<float>(s->radius);
-    }
-    SetVec3(hair_program_, "head_centre", centre);
-    glUniform1f(glGetUniformLocation(hair_program_, "head_radius"), radius);
-    glUniform1i(glGetUniformLocation(hair_program_, "highlight_masters"),
-                look.highlight_masters || look.masters_only ? 1 : 0);
-    glUniform1f(glGetUniformLocation(hair_program_, "pixels_per_unit"),
-                0.5f * height / std::tan(0.5f * camera.fov));
-    glBindVertexArray(hair_vao_);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, hair_ebo_);
-    long n = look.masters_only ? master_indices_ : hair_indices_;
-    if (max_segments >= 0) n = std::min(n, 2 * max_segments);
-    glDrawElements(GL_LINES, static_cast<GLsizei>(n), GL_UNSIGNED_INT, nullptr);
-    drawn_segments_ = n / 2;
-    glDisable(GL_BLEND);
-  }
-  if (gizmo_) DrawGizmo(vp);
+  const Scene scene = MakeScene(camera, look, width, height);
+  DrawBody(scene);
+  const long n = max_segments >= 0 ? std::min(scene.segments, max_segments) : scene.segments;
+  DrawHair(scene, look, 0, n);
+  drawn_segments_ = last_draw_segments_ = n;
+  refined_ = -1;  // the refining picture is not on screen any more
+  if (gizmo_) DrawGizmo(scene.vp);
   glBindVertexArray(0);
   glUseProgram(0);
+}
+
+bool Viewer::DrawRefining(const OrbitCamera& camera, const HairLook& look, int x0,
+                          int full_width, int height, long chunk) {
+  const int width = std::max(1, full_width - x0);
+  const Scene scene = MakeScene(camera, look, width, height);
+  // The picture's inputs: when any differs from the picture being refined, it starts again.
+  const std::vector<float> key = {
+      camera.yaw, camera.pitch, camera.distance, camera.fov, camera.target.x(),
+      camera.target.y(), camera.target.z(), look.colour.x(), look.colour.y(), look.colour.z(),
+      look.masters_only ? 1.0f : 0.0f, look.highlight_masters ? 1.0f : 0.0f,
+      look.headlight ? 1.0f : 0.0f, look.key_light.x(), look.key_light.y(), look.key_light.z(),
+      static_cast<float>(width), static_cast<float>(height),
+      static_cast<float>(hair_version_), static_cast<float>(body_vertices_)};
+  if (width != refine_width_ || height != refine_height_) {
+    // The off-screen picture: colour and depth textures of the view's size.
+    if (!refine_fbo_) {
+      glGenFramebuffers(1, &refine_fbo_);
+      glGenTextures(1, &refine_colour_);
+      glGenTextures(1, &refine_depth_);
+    }
+    glBindTexture(GL_TEXTURE_2D, refine_colour_);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, refine_depth_);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, width, height, 0, GL_DEPTH_COMPONENT,
+                 GL_UNSIGNED_INT, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, refine_fbo_);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, refine_colour_, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, refine_depth_, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    refine_width_ = width;
+    refine_height_ = height;
+    refine_key_.clear();
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, refine_fbo_);
+  glViewport(0, 0, width, height);
+  glEnable(GL_DEPTH_TEST);
+  if (key != refine_key_ || refined_ < 0) {
+    refine_key_ = key;
+    glClearColor(0.16f, 0.17f, 0.2f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    DrawBody(scene);
+    refined_ = 0;
+  }
+  // The next chunk of the drawing order (the same segments, blended in the same order, as one
+  // draw call of them all).
+  const long count = std::min(std::max(1L, chunk), scene.segments - refined_);
+  DrawHair(scene, look, refined_, count);
+  refined_ += std::max(0L, count);
+  last_draw_segments_ = std::max(0L, count);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  // On screen: the picture so far (colour and depth, so that the gizmo is hidden behind the
+  // head as in Draw), then the gizmo.
+  glViewport(0, 0, full_width, height);
+  glClearColor(0.16f, 0.17f, 0.2f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glViewport(x0, 0, width, height);
+  glUseProgram(composite_program_);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, refine_depth_);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, refine_colour_);
+  glUniform1i(glGetUniformLocation(composite_program_, "colour"), 0);
+  glUniform1i(glGetUniformLocation(composite_program_, "depth"), 1);
+  glUniform2f(glGetUniformLocation(composite_program_, "origin"), static_cast<float>(x0), 0.0f);
+  glUniform2f(glGetUniformLocation(composite_program_, "size"), static_cast<float>(width),
+              static_cast<float>(height));
+  glDepthFunc(GL_ALWAYS);
+  glBindVertexArray(gizmo_vao_);  // any VAO: the triangle's corners come from gl_VertexID
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDepthFunc(GL_LESS);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  if (gizmo_) DrawGizmo(scene.vp);
+  glBindVertexArray(0);
+  glUseProgram(0);
+  drawn_segments_ = refined_;
+  return refined_ >= scene.segments;
 }
 
 void Viewer::DrawGizmo(const Eigen::Matrix4f& vp) {

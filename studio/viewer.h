@@ -92,6 +92,12 @@ class Viewer {
   /// subset of the children.
   void Draw(const OrbitCamera& camera, const HairLook& look, int x0, int full_width, int height,
             long max_segments = -1);
+  /// Full density without holding the UI: the picture is drawn off screen, chunk segments (in
+  /// the drawing order) per call, and shown as far as it got (with the gizmo on top); a change
+  /// of the camera, the look, the hair or the view's size starts it again. True once every
+  /// segment is in it (the picture equals Draw's at full density, without multisampling).
+  bool DrawRefining(const OrbitCamera& camera, const HairLook& look, int x0, int full_width,
+                    int height, long chunk);
   /// The box of the hair and body (for frame-all).
   const Eigen::AlignedBox3f& Bounds() const { return bounds_; }
   /// Masters whose roots are within radius pixels of (x, y) (pixels, top-left origin) and face
@@ -108,6 +114,8 @@ class Viewer {
   }
   /// Number of segments drawn by the last Draw.
   long DrawnSegments() const { return drawn_segments_; }
+  /// Segments drawn by the last Draw or DrawRefining call itself (a refining call: its chunk).
+  long LastDrawSegments() const { return last_draw_segments_; }
   /// Segments of all strands, and of the masters alone.
   long TotalSegments() const { return hair_indices_ / 2; }
   long MasterSegments() const { return master_indices_ / 2; }
@@ -115,6 +123,16 @@ class Viewer {
   long LastUploadBytes() const { return last_upload_bytes_; }
 
  private:
+  // What a frame draws with (Draw, DrawRefining).
+  struct Scene {
+    Eigen::Matrix4f vp;
+    Eigen::Vector3f eye, light;
+    float pixels_per_unit = 1.0f;
+    long segments = 0;  // of the look (masters only, or all)
+  };
+  Scene MakeScene(const OrbitCamera& camera, const HairLook& look, int width, int height) const;
+  void DrawBody(const Scene& scene);
+  void DrawHair(const Scene& scene, const HairLook& look, long first, long count);
   void UploadFlags();
   void DrawGizmo(const Eigen::Matrix4f& view_projection);
   void UploadBody(const Body& body);
@@ -129,10 +147,16 @@ class Viewer {
   long body_vertices_ = 0;
   std::vector<std::uint32_t> strand_of_master_;  // first strand of each wisp
   Eigen::AlignedBox3f bounds_;
-  long drawn_segments_ = 0;
+  long drawn_segments_ = 0, last_draw_segments_ = 0;
   long last_upload_bytes_ = 0;
   std::optional<CutRegion> gizmo_;
   unsigned gizmo_program_ = 0, gizmo_vao_ = 0, gizmo_vbo_ = 0;
+  // DrawRefining's off-screen picture, the segments in it (-1: none) and what it shows.
+  unsigned composite_program_ = 0, refine_fbo_ = 0, refine_colour_ = 0, refine_depth_ = 0;
+  int refine_width_ = 0, refine_height_ = 0;
+  long refined_ = -1;
+  std::vector<float> refine_key_;
+  std::uint64_t hair_version_ = 0;  // counts uploads of strands and flags
 };
 
 }  // namespace ringlet::studio
