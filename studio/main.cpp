@@ -1170,8 +1170,9 @@ void InstallCallbacks(GLFWwindow* window) {
 // (cursor, buttons, keys). ImGui sees one state per frame, so the run stops (as ImGui 1.87's
 // input queue "trickles" fast input) before a second change of a button or key already changed
 // in this frame, a move after a button change, a release after a move (a slider must see where
-// it was dragged before it is released), and typed characters after a change of a key ImGui
-// reads (Enter, Backspace, ...). A click or key tap shorter than a frame is thus spread over
+// it was dragged before it is released), a key release after a key press (a shortcut's keys are
+// seen down together), and typed characters after a change of a key ImGui reads (Enter,
+// Backspace, ...). A click or key tap shorter than a frame is thus spread over
 // two frames instead of lost, and a press is seen at its own cursor position.
 std::vector<InputEvent> TakeFrameEvents(App* app) {
   const ImGuiIO& io = ImGui::GetIO();
@@ -1181,7 +1182,7 @@ std::vector<InputEvent> TakeFrameEvents(App* app) {
   std::vector<InputEvent> taken;
   std::vector<int> changed_keys;
   int changed_buttons = 0;  // bit per button
-  bool moved = false, mapped_changed = false;
+  bool moved = false, mapped_changed = false, key_pressed = false;
   size_t k = 0;
   for (; k < app->events.size(); ++k) {
     InputEvent& e = app->events[k];
@@ -1196,8 +1197,11 @@ std::vector<InputEvent> TakeFrameEvents(App* app) {
                (e.action == GLFW_RELEASE && moved);
         break;
       case InputEvent::Kind::kKey:
+        // Also a release after a press of another key: Ctrl+A sent as Ctrl down, A down, Ctrl
+        // up, A up must be seen with both keys down in one frame.
         stop = e.action != GLFW_REPEAT &&
-               std::find(changed_keys.begin(), changed_keys.end(), e.code) != changed_keys.end();
+               (std::find(changed_keys.begin(), changed_keys.end(), e.code) != changed_keys.end() ||
+                (e.action == GLFW_RELEASE && key_pressed));
         break;
       case InputEvent::Kind::kChar:
         stop = mapped_changed;
@@ -1222,6 +1226,7 @@ std::vector<InputEvent> TakeFrameEvents(App* app) {
         if (e.action == GLFW_REPEAT) break;
         if (e.code >= 0 && e.code < 512) app->keys_down[e.code] = e.action == GLFW_PRESS;
         changed_keys.push_back(e.code);
+        key_pressed = key_pressed || e.action == GLFW_PRESS;
         mapped_changed = mapped_changed || mapped(e.code);
         break;
       case InputEvent::Kind::kChar:

@@ -123,7 +123,7 @@ def reveal(name):
     (the panel is taller than the window with the UI font)."""
     for _ in range(40):
         rect = widget(name)
-        if rect[1] >= 0 and rect[3] <= 790:
+        if rect[1] >= 30 and rect[3] <= 790:  # below the title bar, above the bottom
             return rect
         xdo("mousemove", 60, 400)
         time.sleep(2 * FRAME)
@@ -154,9 +154,9 @@ def drag_slider(name, start_x, end_x):
 
 def type_into(name, text):
     """Clicks a text field, replaces its text and presses Enter."""
-    rect = widget(name)
+    rect = reveal(name)
     click(rect[0] + 20, centre_y(rect))
-    time.sleep(2 * FRAME)
+    quiet()  # the field is active before Ctrl+A selects its text
     xdo("key", "ctrl+a")
     xdo("type", text)
     xdo("key", "Return")
