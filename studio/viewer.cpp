@@ -593,7 +593,8 @@ Viewer::Scene Viewer::MakeScene(const OrbitCamera& camera, const HairLook& look,
   scene.light = look.key_light;
   if (look.headlight) {
     const Eigen::Matrix4f view = camera.View();
-    const Eigen::Vector3f back = -view.block<1, 3>(2, 0).transpose();  // toward the eye
+    // The view's third row is -forward: from the target toward the eye.
+    const Eigen::Vector3f back = view.block<1, 3>(2, 0).transpose();
     const Eigen::Vector3f up = view.block<1, 3>(1, 0).transpose();
     scene.light = (back + 0.25f * up).normalized();
   }
