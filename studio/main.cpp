@@ -375,7 +375,11 @@ void OpeningView(App* app) {
 // Takes a finished solve into the view.
 void Sync(App* app) {
   app->session.Poll();
-  const auto hair = app->session.Hair();
+  // Before the first hair of a file is shown: the masters as they are solved (Session::Preview).
+  std::shared_ptr<const HairState> hair = app->session.Hair();
+  if (!hair) {
+    if (auto preview = app->session.Preview()) hair = std::move(preview);
+  }
   if (hair != app->uploaded) {
     const double upload_start = glfwGetTime();
     app->viewer.SetHair(hair);
@@ -387,7 +391,9 @@ void Sync(App* app) {
       app->framed = true;
     }
     app->last_motion = glfwGetTime();  // new hair: a preview first, full density when still
-    if (app->last_edit_time > 0.0) app->last_latency = glfwGetTime() - app->last_edit_time;
+    if (app->last_edit_time > 0.0 && hair && hair == app->session.Hair()) {
+      app->last_latency = glfwGetTime() - app->last_edit_time;
+    }
     app->redraw_frames = std::max(app->redraw_frames, 2);
   }
   const std::string error = app->session.LastError();
@@ -1441,6 +1447,8 @@ void WriteReport(App* app) {
   r["up_to_date"] = s.UpToDate();
   const auto hair = s.Hair();
   r["strands"] = hair && hair->strands ? hair->strands->NumStrands() : 0;
+  // The masters being solved are on screen (Session::Preview), not yet the hair.
+  r["masters_preview"] = app->uploaded && app->uploaded != hair;
   r["message"] = app->message;
   r["modified"] = s.Modified();
   r["document"] = s.CurrentDocument().parameters;
