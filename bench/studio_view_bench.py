@@ -69,6 +69,10 @@ def main():
                               stderr=subprocess.DEVNULL)
     until(lambda r: r["frame"] >= 1)
     t_window = time.time() - t0
+    r = until(lambda r: (r["strands"] > 0 or r.get("masters_preview")) and
+              r["segments_drawn"] > 0)
+    t_first = time.time() - t0
+    masters_first = bool(r.get("masters_preview"))
     r = until(lambda r: r["strands"] > 0 and r["segments_drawn"] > 0)
     t_hair = time.time() - t0
     first = (r["segments_drawn"], r["segments_total"], r["preview"])
@@ -76,7 +80,9 @@ def main():
               r["segments_drawn"] == r["segments_total"])
     t_full = time.time() - t0
     cpu_open = cpu_seconds(studio.pid)
-    print(f"first frame (panel, no hair) {t_window:.2f} s; first hair {t_hair:.2f} s "
+    print(f"first frame (panel, no hair) {t_window:.2f} s; first picture of hair {t_first:.2f} s "
+          f"({'the masters being solved' if masters_first else 'the hair'}); "
+          f"first picture of the solved hair {t_hair:.2f} s "
           f"({first[0]} of {first[1]} segments, preview {first[2]}); full density {t_full:.2f} s "
           f"(draw {r['draw_seconds']:.2f} s); CPU time of the studio so far {cpu_open:.2f} s",
           flush=True)
