@@ -400,7 +400,7 @@ def shot(name, always=False):
     """F12 saves the window as the next studio-NNN.png; kept under STUDIO_SHOTS as NAME.png.
     Only with STUDIO_SHOTS set, unless always."""
     if not always and not os.environ.get("STUDIO_SHOTS"):
-        return
+        return None
     before = set(f for f in os.listdir(WORK) if f.startswith("studio-"))
     xdo("key", "F12")
     r = wait(lambda r: set(f for f in os.listdir(WORK) if f.startswith("studio-")) != before,
@@ -410,6 +410,18 @@ def shot(name, always=False):
     if os.environ.get("STUDIO_SHOTS") and new:
         shutil.copy(os.path.join(WORK, new[0]),
                     os.path.join(os.environ["STUDIO_SHOTS"], name + ".png"))
+    return os.path.join(WORK, new[0]) if new else None
+
+
+def view_light(path):
+    """The light in the view of a screenshot: the mean over the view (right of the panel) of
+    how much brighter than the background (viewer.cpp's clear colour) each pixel is."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from check_screenshots import read_png
+    image = read_png(path).astype(float)
+    view = image[:, int(report()["panel_width"]) + 10:, :]
+    background = view[5:20, -20:-5, :].reshape(-1, 3).mean(axis=0)
+    return float((view - background).clip(min=0).mean())
 
 
 def drag(button, x0, y0, x1, y1, modifier=None):
@@ -485,12 +497,22 @@ def view():
     click(*centre("brush"))
     xdo("key", "1")
     quiet()
-    # The headlight (the light follows the camera).
+    # The headlight (the light follows the camera): seen from the back (Ctrl+1), the key light
+    # (the render's default, from the front and above) leaves the back in shade; the headlight
+    # lights it.
+    xdo("key", "ctrl+1")
+    until(lambda r: abs(r["camera"]["yaw"]) < 1e-6, "the back view", timeout=5)
+    quiet()
+    off = view_light(shot("studio_back_key_light", always=True))
     click(*centre("headlight"))
     r = wait(lambda r: r["headlight"], "the headlight")
-    shot("studio_headlight")
+    on = view_light(shot("studio_headlight", always=True))
+    check(on > 1.5 * off, f"from the back, the headlight lights the view: {off:.1f} -> {on:.1f} "
+                          f"(mean brightening over the background)")
     click(*centre("headlight"))
     wait(lambda r: not r["headlight"], "the headlight off")
+    xdo("key", "1")
+    quiet()
     # The preview density (--preview-segments 1000; the 60 masters are 900 segments): while
     # the mouse orbits, the masters and 100 segments of children; full density once still.
     r = report()
