@@ -26,9 +26,9 @@
 // GLFW after the GL loader.
 #include <GLFW/glfw3.h>
 #include <imgui.h>
-#include <imgui_internal.h>  // ImGuiWindow::ContentSize, for --report only
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
+#include <imgui_internal.h>  // ImGuiWindow::ContentSize, for --report only
 
 #include <algorithm>
 #include <atomic>
@@ -165,8 +165,8 @@ struct App {
   bool refining = false;  // the full-density picture is still being drawn (DrawRefining)
   double segments_per_second = 0.0;
   long preview_budget = kFirstPreview;
-  double draw_seconds = 0.0;  // the last frame's hair and body (with glFinish)
-  long fixed_preview = -1;    // --preview-segments: a fixed budget instead of the measured one
+  double draw_seconds = 0.0;    // the last frame's hair and body (with glFinish)
+  long fixed_preview = -1;      // --preview-segments: a fixed budget instead of the measured one
   bool screenshot_key = false;  // F12 pressed: save this frame as studio-NNN.png
   bool brush_mode = false;
   float brush_radius = 30.0f;
@@ -838,8 +838,7 @@ void Panel(App* app) {
   ImGui::SetNextWindowSize(ImVec2(app->panel_width, static_cast<float>(h)));
   ImGui::SetNextWindowSizeConstraints(ImVec2(kMinPanelEm * em, static_cast<float>(h)),
                                       ImVec2(max_width, static_cast<float>(h)));
-  ImGui::Begin("ringlet studio", nullptr,
-               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse);
+  ImGui::Begin("ringlet studio", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse);
   app->panel_width = ImGui::GetWindowWidth();
   // --report: the widest row of the last frame (labels and text included) and the width rows
   // have (the window less its padding and vertical scrollbar).
@@ -1063,10 +1062,12 @@ void Panel(App* app) {
     Slider(app, "radius (m)", &app->sphere_radius, 0.02f, 0.6f);
   }
   PadRows(tool_top, 3);
-  Slider(app, "cut height (m)", &app->cut_z, -0.4f, 0.1f, "%.3f", FieldWidth() - 2.0f * ImGui::GetFontSize());
+  Slider(app, "cut height (m)", &app->cut_z, -0.4f, 0.1f, "%.3f",
+         FieldWidth() - 2.0f * ImGui::GetFontSize());
   ImGui::SameLine();
   if (Button(app, "Cut below", "Cut below")) AddOperation(app, Brushed(app, CutZ(app->cut_z)));
-  Slider(app, "max length (m)", &app->cut_length, 0.02f, 0.8f, "%.3f", FieldWidth() - 2.0f * ImGui::GetFontSize());
+  Slider(app, "max length (m)", &app->cut_length, 0.02f, 0.8f, "%.3f",
+         FieldWidth() - 2.0f * ImGui::GetFontSize());
   ImGui::SameLine();
   if (Button(app, "Cut to length", "Cut to length")) {
     StyleOperation op = Simple(StyleOperation::Kind::kCut);
@@ -1527,7 +1528,8 @@ void Frame(App* app) {
   // The preview density while the camera moves (a drag, keys, the wheel), a solve runs, or new
   // hair has just arrived; full density once still for kStillSeconds.
   const double now = glfwGetTime();
-  const OrbitCamera& c = app->camera, &d = app->drawn_camera;
+  const OrbitCamera& c = app->camera;
+  const OrbitCamera& d = app->drawn_camera;
   if (c.yaw != d.yaw || c.pitch != d.pitch || c.distance != d.distance || c.fov != d.fov ||
       c.target != d.target) {
     app->last_motion = now;
@@ -1549,16 +1551,16 @@ void Frame(App* app) {
   app->draw_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - draw_start).count();
   app->drawn_camera = app->camera;
-  const long full = app->look.masters_only ? app->viewer.MasterSegments()
-                                           : app->viewer.TotalSegments();
+  const long full =
+      app->look.masters_only ? app->viewer.MasterSegments() : app->viewer.TotalSegments();
   app->preview_shown = preview && app->viewer.DrawnSegments() < full;
   // The budget: the segments drawn in kPreviewSeconds at the measured rate.
   if (app->fixed_preview >= 0) {
     app->preview_budget = app->fixed_preview;
   } else if (drawn >= kMinPreview && app->draw_seconds > 0.0) {
     app->segments_per_second = drawn / app->draw_seconds;
-    app->preview_budget = std::clamp(
-        static_cast<long>(app->segments_per_second * kPreviewSeconds), kMinPreview, kMaxPreview);
+    app->preview_budget = std::clamp(static_cast<long>(app->segments_per_second * kPreviewSeconds),
+                                     kMinPreview, kMaxPreview);
   }
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   if (app->screenshot_key) {
@@ -2046,8 +2048,8 @@ int Main(int argc, char** argv) {
   ImGui::StyleColorsDark();
   // A readable font: DejaVu Sans (fonts-dejavu-core), or ImGui's own with one line of warning.
   const ImFont* font = std::filesystem::exists(kFontPath)
-                          ? ImGui::GetIO().Fonts->AddFontFromFileTTF(kFontPath, kFontPixels)
-                          : nullptr;
+                           ? ImGui::GetIO().Fonts->AddFontFromFileTTF(kFontPath, kFontPixels)
+                           : nullptr;
   if (!font) {
     std::fprintf(stderr,
                  "ringlet-studio: warning: %s not found (Debian package fonts-dejavu-core): "

@@ -155,8 +155,8 @@ class Session {
   /// While the groom of a freshly opened document is solved (no hair to show yet, Hair() null):
   /// the masters solved so far, one polyline each (2 points per segment; a master not solved
   /// yet is a zero-length segment at its root), published by the worker after a block of masters
-  /// at most every 0.3 s (SetPreviewSeconds); its masters, style and roots are the groom's, stats.what "solving".
-  /// Null otherwise (and once the hair is shown).
+  /// at most every 0.3 s (SetPreviewSeconds); its masters, style and roots are the groom's,
+  /// stats.what "solving". Null otherwise (and once the hair is shown).
   std::shared_ptr<const HairState> Preview() const;
   /// The document of the current history entry.
   const Document& CurrentDocument() const { return history_[cursor_].document; }

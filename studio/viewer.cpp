@@ -378,8 +378,7 @@ bool Viewer::Init(std::string* error) {
   gizmo_program_ =
       Link({{GL_VERTEX_SHADER, kGizmoVertex}, {GL_FRAGMENT_SHADER, kGizmoFragment}}, error);
   composite_program_ =
-      Link({{GL_VERTEX_SHADER, kCompositeVertex}, {GL_FRAGMENT_SHADER, kCompositeFragment}},
-           error);
+      Link({{GL_VERTEX_SHADER, kCompositeVertex}, {GL_FRAGMENT_SHADER, kCompositeFragment}}, error);
   if (!hair_program_ || !body_program_ || !gizmo_program_ || !composite_program_) return false;
   glGenVertexArrays(1, &gizmo_vao_);
   glGenBuffers(1, &gizmo_vbo_);
@@ -659,18 +658,31 @@ void Viewer::Draw(const OrbitCamera& camera, const HairLook& look, int x0, int f
   glUseProgram(0);
 }
 
-bool Viewer::DrawRefining(const OrbitCamera& camera, const HairLook& look, int x0,
-                          int full_width, int height, long chunk) {
+bool Viewer::DrawRefining(const OrbitCamera& camera, const HairLook& look, int x0, int full_width,
+                          int height, long chunk) {
   const int width = std::max(1, full_width - x0);
   const Scene scene = MakeScene(camera, look, width, height);
   // The picture's inputs: when any differs from the picture being refined, it starts again.
-  const std::vector<float> key = {
-      camera.yaw, camera.pitch, camera.distance, camera.fov, camera.target.x(),
-      camera.target.y(), camera.target.z(), look.colour.x(), look.colour.y(), look.colour.z(),
-      look.masters_only ? 1.0f : 0.0f, look.highlight_masters ? 1.0f : 0.0f,
-      look.headlight ? 1.0f : 0.0f, look.key_light.x(), look.key_light.y(), look.key_light.z(),
-      static_cast<float>(width), static_cast<float>(height),
-      static_cast<float>(hair_version_), static_cast<float>(body_vertices_)};
+  const std::vector<float> key = {camera.yaw,
+                                  camera.pitch,
+                                  camera.distance,
+                                  camera.fov,
+                                  camera.target.x(),
+                                  camera.target.y(),
+                                  camera.target.z(),
+                                  look.colour.x(),
+                                  look.colour.y(),
+                                  look.colour.z(),
+                                  look.masters_only ? 1.0f : 0.0f,
+                                  look.highlight_masters ? 1.0f : 0.0f,
+                                  look.headlight ? 1.0f : 0.0f,
+                                  look.key_light.x(),
+                                  look.key_light.y(),
+                                  look.key_light.z(),
+                                  static_cast<float>(width),
+                                  static_cast<float>(height),
+                                  static_cast<float>(hair_version_),
+                                  static_cast<float>(body_vertices_)};
   if (width != refine_width_ || height != refine_height_) {
     // The off-screen picture: colour and depth textures of the view's size.
     if (!refine_fbo_) {
