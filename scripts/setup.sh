@@ -11,7 +11,7 @@ packages=(
   python3-numpy python3-matplotlib python3-skimage
   pybind11-dev python3-dev python3-pytest
   python3-dask python3-distributed python3-tqdm  # the Dask engine of ringlet batch and its test
-  libglfw3-dev libimgui-dev libgl-dev libepoxy-dev
+  libglfw3-dev libimgui-dev libgl-dev libepoxy-dev fonts-dejavu-core  # the studio (its UI font)
   xvfb xauth libgl1-mesa-dri xdotool  # the studio's headless tests (xdotool: real input events)
   clang-14 libclang-rt-14-dev
   blender  # the Blender add-on's tests (tests/blender/, headless Blender 3.4.1 with Cycles)

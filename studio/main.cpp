@@ -28,6 +28,7 @@
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
+#include <imgui_internal.h>  // ImGuiWindow::ContentSize, for --report only
 
 #include <algorithm>
 #include <atomic>
@@ -56,10 +57,28 @@
 namespace ringlet::studio {
 namespace {
 
-constexpr float kPanelWidth = 400.0f;
-// The width of the document's sliders (px): their labels, and the wisp radius' "auto" button
-// after its label, fit in the panel.
-constexpr float kFieldWidth = 180.0f;
+// The panel's default width and the width of the document's sliders, in units of the font size
+// (em): every label, and the wisp radius' "auto" button after its label, fit in the panel at
+// its default width (the input tests check it), which is therefore also its narrowest. The panel
+// is resizable (drag its right edge) up to all but kMinViewPixels of the window; its width is
+// the session's (App::panel_width, kept when another file is opened), not the document's.
+constexpr float kPanelEm = 30.0f;
+constexpr float kMinPanelEm = kPanelEm;
+constexpr float kMinViewPixels = 200.0f;
+constexpr float kFieldEm = 13.0f;
+// The UI font: Debian's DejaVu Sans (fonts-dejavu-core) at this size (pixels); ImGui's own
+// font (ProggyClean, 13 px) when the file is missing.
+constexpr const char* kFontPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+constexpr float kFontPixels = 15.0f;
+// The preview density (docs/studio.md): while the camera moves, a solve runs, or new hair has
+// just arrived, the hair is drawn at most preview_budget segments (the masters first); full
+// density once nothing moved for kStillSeconds. The budget follows the measured drawing rate so
+// that the hair's draw takes about kPreviewSeconds, within [kMinPreview, kMaxPreview] segments.
+constexpr double kStillSeconds = 0.35;
+constexpr double kPreviewSeconds = 0.05;
+constexpr long kMinPreview = 10000, kMaxPreview = 200000, kFirstPreview = 50000;
+
+float FieldWidth() { return kFieldEm * ImGui::GetFontSize(); }
 
 // One input event, queued by GLFW's callbacks in the order the window system delivered them.
 struct InputEvent {
@@ -134,6 +153,21 @@ struct App {
   GLFWwindow* window = nullptr;
   std::shared_ptr<const HairState> uploaded;
   std::string message;  // the last error or notice, shown in the panel
+  float panel_width = 0.0f;  // window coordinates; 0 until the first frame (kPanelEm)
+  float panel_content_width = 0.0f, panel_inner_width = 0.0f;  // --report
+  // The preview density: when the camera or the hair last changed (glfwGetTime), the camera of
+  // the last frame, whether the last frame was a preview, the segments drawn per second
+  // (measured on frames of at least kMinPreview segments; 0 until then) and the budget.
+  bool allow_preview = true;  // interactive only: scripts and screenshots draw full density
+  double last_motion = -1e9;
+  OrbitCamera drawn_camera;
+  bool preview_shown = false;
+  bool refining = false;  // the full-density picture is still being drawn (DrawRefining)
+  double segments_per_second = 0.0;
+  long preview_budget = kFirstPreview;
+  double draw_seconds = 0.0;    // the last frame's hair and body (with glFinish)
+  long fixed_preview = -1;      // --preview-segments: a fixed budget instead of the measured one
+  bool screenshot_key = false;  // F12 pressed: save this frame as studio-NNN.png
   bool brush_mode = false;
   float brush_radius = 30.0f;
   bool brush_only = true;  // operations act on the brushed masters only (when any)
@@ -188,7 +222,7 @@ int PanelPixels(App* app) {
   int ww, wh, fw, fh;
   glfwGetWindowSize(app->window, &ww, &wh);
   glfwGetFramebufferSize(app->window, &fw, &fh);
-  return static_cast<int>(kPanelWidth * (ww > 0 ? static_cast<float>(fw) / ww : 1.0f));
+  return static_cast<int>(app->panel_width * (ww > 0 ? static_cast<float>(fw) / ww : 1.0f));
 }
 
 void Report(App* app, const std::string& text) {
@@ -207,6 +241,7 @@ void LoadLook(App* app, const std::string& path) {
                          settings.pheomelanin == app->render_settings.pheomelanin &&
                          settings.exposure == app->render_settings.exposure;
   app->render_settings = settings;
+  app->look.key_light = settings.key.direction.cast<float>().normalized();
   if (same_look) return;
   app->look_computed = true;
   // The path tracer's colour of this hair (what the render panel shows), not a mapping of the
@@ -319,10 +354,32 @@ StyleOperation Simple(StyleOperation::Kind kind) {
   return op;
 }
 
+// The view a file opens with: the hairstyle's render camera (render.camera, docs/rendering.md)
+// when it places one (position and look_at: that camera, its field of view), else the render's
+// framed camera (render.camera.view_direction, by default from the face's front right, slightly
+// above): the hair and body framed, seen along that direction. Either way the face.
+void OpeningView(App* app) {
+  const CameraSettings& c = app->render_settings.camera;
+  if (c.kind == CameraSettings::Kind::kExplicit) {
+    const Eigen::Vector3f position = c.position.cast<float>(), look_at = c.look_at.cast<float>();
+    app->camera.target = look_at;
+    app->camera.distance = std::max(0.02f, (position - look_at).norm());
+    app->camera.fov = static_cast<float>(c.vertical_fov);
+    app->camera.LookFrom(position - look_at);
+  } else {
+    app->camera.Frame(app->viewer.Bounds());
+    app->camera.LookFrom(-c.view_direction.cast<float>());
+  }
+}
+
 // Takes a finished solve into the view.
 void Sync(App* app) {
   app->session.Poll();
-  const auto hair = app->session.Hair();
+  // Before the first hair of a file is shown: the masters as they are solved (Session::Preview).
+  std::shared_ptr<const HairState> hair = app->session.Hair();
+  if (!hair) {
+    if (auto preview = app->session.Preview()) hair = std::move(preview);
+  }
   if (hair != app->uploaded) {
     const double upload_start = glfwGetTime();
     app->viewer.SetHair(hair);
@@ -330,10 +387,13 @@ void Sync(App* app) {
     app->viewer.SetBrush(app->session.brush);
     app->uploaded = hair;
     if (!app->framed && hair) {
-      app->camera.Frame(app->viewer.Bounds());
+      OpeningView(app);
       app->framed = true;
     }
-    if (app->last_edit_time > 0.0) app->last_latency = glfwGetTime() - app->last_edit_time;
+    app->last_motion = glfwGetTime();  // new hair: a preview first, full density when still
+    if (app->last_edit_time > 0.0 && hair && hair == app->session.Hair()) {
+      app->last_latency = glfwGetTime() - app->last_edit_time;
+    }
     app->redraw_frames = std::max(app->redraw_frames, 2);
   }
   const std::string error = app->session.LastError();
@@ -613,7 +673,7 @@ void Modals(App* app) {
 void RenderWindow(App* app) {
   RenderPanel& r = app->render;
   if (!r.open) return;
-  ImGui::SetNextWindowPos(ImVec2(kPanelWidth + 10.0f, 10.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowPos(ImVec2(app->panel_width + 10.0f, 10.0f), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(420.0f, 420.0f), ImGuiCond_FirstUseEver);
   if (!ImGui::Begin("Render", &r.open)) {
     ImGui::End();
@@ -665,7 +725,7 @@ void FieldSlider(App* app, const char* label, const std::string& field, double m
   const nlohmann::ordered_json v = app->session.Parameter(field);
   double value = v.is_number() ? v.get<double>() : fallback;
   if (app->edit.id == id) value = app->edit.value[0];
-  ImGui::SetNextItemWidth(kFieldWidth);
+  ImGui::SetNextItemWidth(FieldWidth());
   ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &min, &max, format);
   Record(app, field);
   if (ImGui::IsItemActive()) {
@@ -682,7 +742,7 @@ void FieldInt(App* app, const char* label, const std::string& field, int min, in
   const nlohmann::ordered_json v = app->session.Parameter(field);
   int value = v.is_number() ? v.get<int>() : fallback;
   if (app->edit.id == id) value = app->edit.int_value;
-  ImGui::SetNextItemWidth(kFieldWidth);
+  ImGui::SetNextItemWidth(FieldWidth());
   ImGui::SliderInt(label, &value, min, max);
   Record(app, field);
   if (ImGui::IsItemActive()) {
@@ -714,7 +774,7 @@ void FieldVector3(App* app, const char* label, const std::string& field, double 
     }
   }
   if (app->edit.id == id) std::copy(app->edit.value, app->edit.value + 3, value);
-  ImGui::SetNextItemWidth(kFieldWidth);
+  ImGui::SetNextItemWidth(FieldWidth());
   ImGui::SliderScalarN(label, ImGuiDataType_Double, value, 3, &min, &max, "%.2f");
   Record(app, field);
   if (ImGui::IsItemActive()) {
@@ -751,8 +811,8 @@ bool Button(App* app, const char* label, const std::string& name) {
 // A slider of the panel's own state (not the document), of the fields' width (narrower when a
 // button follows on its row).
 bool Slider(App* app, const char* label, float* value, float min, float max,
-            const char* format = "%.3f", float width = kFieldWidth) {
-  ImGui::SetNextItemWidth(width);
+            const char* format = "%.3f", float width = 0.0f) {
+  ImGui::SetNextItemWidth(width > 0.0f ? width : FieldWidth());
   const bool changed = ImGui::SliderFloat(label, value, min, max, format);
   Record(app, label);
   return changed;
@@ -769,21 +829,32 @@ void PadRows(float top, int rows) {
 void Panel(App* app) {
   int w, h;
   glfwGetWindowSize(app->window, &w, &h);
+  // Resizable by its right edge (ImGui's window border), the height the window's.
+  const float em = ImGui::GetFontSize();
+  if (app->panel_width <= 0.0f) app->panel_width = kPanelEm * em;
+  const float max_width = std::max(kMinPanelEm * em, static_cast<float>(w) - kMinViewPixels);
+  app->panel_width = std::clamp(app->panel_width, kMinPanelEm * em, max_width);
   ImGui::SetNextWindowPos(ImVec2(0, 0));
-  ImGui::SetNextWindowSize(ImVec2(kPanelWidth, static_cast<float>(h)));
-  ImGui::Begin("ringlet studio", nullptr,
-               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::SetNextWindowSize(ImVec2(app->panel_width, static_cast<float>(h)));
+  ImGui::SetNextWindowSizeConstraints(ImVec2(kMinPanelEm * em, static_cast<float>(h)),
+                                      ImVec2(max_width, static_cast<float>(h)));
+  ImGui::Begin("ringlet studio", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse);
+  app->panel_width = ImGui::GetWindowWidth();
+  // --report: the widest row of the last frame (labels and text included) and the width rows
+  // have (the window less its padding and vertical scrollbar).
+  app->panel_content_width = ImGui::GetCurrentWindow()->ContentSize.x;
+  app->panel_inner_width = ImGui::GetCurrentWindow()->WorkRect.GetWidth();
   app->widgets = nlohmann::ordered_json::object();  // --report: the widgets of this frame
   Session& s = app->session;
   // Files.
-  ImGui::SetNextItemWidth(kPanelWidth - 60.0f);
+  ImGui::SetNextItemWidth(-3.0f * em);
   ImGui::InputText("file", app->path, sizeof(app->path));
   Record(app, "file");
   if (Button(app, "Open", "Open")) Guard(app, Guarded::kOpen, app->path);
   ImGui::SameLine();
   if (Button(app, "New", "New")) Guard(app, Guarded::kNew);
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(170.0f);
+  ImGui::SetNextItemWidth(FieldWidth() - 2.0f * em);
   ImGui::InputText("##save", app->save_path, sizeof(app->save_path));
   Record(app, "save_path");
   ImGui::SameLine();
@@ -795,7 +866,7 @@ void Panel(App* app) {
       TryWrite(app, Write::kSave, app->save_path);
     }
   }
-  ImGui::SetNextItemWidth(170.0f);
+  ImGui::SetNextItemWidth(FieldWidth() - 2.0f * em);
   ImGui::InputText("##export", app->export_path, sizeof(app->export_path));
   Record(app, "export_path");
   ImGui::SameLine();
@@ -985,16 +1056,18 @@ void Panel(App* app) {
     Slider(app, "roll (deg)", &app->plane_roll, -80.0f, 80.0f, "%.1f");
     ImGui::EndDisabled();
   } else {
-    ImGui::SetNextItemWidth(kFieldWidth);
+    ImGui::SetNextItemWidth(FieldWidth());
     ImGui::SliderFloat3("centre (m)", app->sphere_centre, -0.3f, 0.3f);
     Record(app, "centre (m)");
     Slider(app, "radius (m)", &app->sphere_radius, 0.02f, 0.6f);
   }
   PadRows(tool_top, 3);
-  Slider(app, "cut height (m)", &app->cut_z, -0.4f, 0.1f, "%.3f", kFieldWidth - 30.0f);
+  Slider(app, "cut height (m)", &app->cut_z, -0.4f, 0.1f, "%.3f",
+         FieldWidth() - 2.0f * ImGui::GetFontSize());
   ImGui::SameLine();
   if (Button(app, "Cut below", "Cut below")) AddOperation(app, Brushed(app, CutZ(app->cut_z)));
-  Slider(app, "max length (m)", &app->cut_length, 0.02f, 0.8f, "%.3f", kFieldWidth - 30.0f);
+  Slider(app, "max length (m)", &app->cut_length, 0.02f, 0.8f, "%.3f",
+         FieldWidth() - 2.0f * ImGui::GetFontSize());
   ImGui::SameLine();
   if (Button(app, "Cut to length", "Cut to length")) {
     StyleOperation op = Simple(StyleOperation::Kind::kCut);
@@ -1003,7 +1076,7 @@ void Panel(App* app) {
     AddOperation(app, Brushed(app, op));
   }
   Slider(app, "grow step (mm)", &app->grow_step_mm, 1.0f, 50.0f, "%.1f");
-  ImGui::SetNextItemWidth(kFieldWidth - 30.0f);
+  ImGui::SetNextItemWidth(FieldWidth() - 2.0f * ImGui::GetFontSize());
   ImGui::SliderInt("grow steps", &app->grow_steps, 1, 10);
   Record(app, "grow steps");
   ImGui::SameLine();
@@ -1020,9 +1093,14 @@ void Panel(App* app) {
   Record(app, "masters_only");
   ImGui::SameLine();
   ImGui::Checkbox("highlight masters", &app->look.highlight_masters);
+  ImGui::Checkbox("headlight (the light follows the camera)", &app->look.headlight);
+  Record(app, "headlight");
   ImGui::TextWrapped(
-      "Mouse: left orbit, right pan, wheel zoom. Keys: F frame all, arrows orbit, +/- zoom, "
-      "M masters, Ctrl+Z undo, Ctrl+Y redo. Red: unconverged, magenta: unstable, cyan: brushed.");
+      "Mouse: left drag orbits (Alt+left or middle drag orbits also while the brush or the cut "
+      "tool is on), right drag pans, wheel zooms. Views: 1 front, 3 right side, 7 top; with "
+      "Ctrl the opposite (back, left side, bottom); F frames all, arrows orbit, +/- zoom. "
+      "M masters only, Ctrl+Z undo, Ctrl+Y redo, Enter applies the cut tool's cut. "
+      "Red: unconverged, magenta: unstable, cyan: brushed.");
   if (ImGui::CollapsingHeader("History")) {
     const std::vector<std::string> labels = s.HistoryLabels();
     for (int k = 0; k < static_cast<int>(labels.size()); ++k) {
@@ -1099,8 +1177,9 @@ void InstallCallbacks(GLFWwindow* window) {
 // (cursor, buttons, keys). ImGui sees one state per frame, so the run stops (as ImGui 1.87's
 // input queue "trickles" fast input) before a second change of a button or key already changed
 // in this frame, a move after a button change, a release after a move (a slider must see where
-// it was dragged before it is released), and typed characters after a change of a key ImGui
-// reads (Enter, Backspace, ...). A click or key tap shorter than a frame is thus spread over
+// it was dragged before it is released), a key release after a key press (a shortcut's keys are
+// seen down together), and typed characters after a change of a key ImGui reads (Enter,
+// Backspace, ...). A click or key tap shorter than a frame is thus spread over
 // two frames instead of lost, and a press is seen at its own cursor position.
 std::vector<InputEvent> TakeFrameEvents(App* app) {
   const ImGuiIO& io = ImGui::GetIO();
@@ -1110,7 +1189,7 @@ std::vector<InputEvent> TakeFrameEvents(App* app) {
   std::vector<InputEvent> taken;
   std::vector<int> changed_keys;
   int changed_buttons = 0;  // bit per button
-  bool moved = false, mapped_changed = false;
+  bool moved = false, mapped_changed = false, key_pressed = false;
   size_t k = 0;
   for (; k < app->events.size(); ++k) {
     InputEvent& e = app->events[k];
@@ -1125,8 +1204,11 @@ std::vector<InputEvent> TakeFrameEvents(App* app) {
                (e.action == GLFW_RELEASE && moved);
         break;
       case InputEvent::Kind::kKey:
+        // Also a release after a press of another key: Ctrl+A sent as Ctrl down, A down, Ctrl
+        // up, A up must be seen with both keys down in one frame.
         stop = e.action != GLFW_REPEAT &&
-               std::find(changed_keys.begin(), changed_keys.end(), e.code) != changed_keys.end();
+               (std::find(changed_keys.begin(), changed_keys.end(), e.code) != changed_keys.end() ||
+                (e.action == GLFW_RELEASE && key_pressed));
         break;
       case InputEvent::Kind::kChar:
         stop = mapped_changed;
@@ -1151,6 +1233,7 @@ std::vector<InputEvent> TakeFrameEvents(App* app) {
         if (e.action == GLFW_REPEAT) break;
         if (e.code >= 0 && e.code < 512) app->keys_down[e.code] = e.action == GLFW_PRESS;
         changed_keys.push_back(e.code);
+        key_pressed = key_pressed || e.action == GLFW_PRESS;
         mapped_changed = mapped_changed || mapped(e.code);
         break;
       case InputEvent::Kind::kChar:
@@ -1243,6 +1326,23 @@ void Shortcut(App* app, const InputEvent& e) {
     case GLFW_KEY_M:
       if (press && !ctrl) app->look.masters_only = !app->look.masters_only;
       break;
+    case GLFW_KEY_F12:
+      if (press) app->screenshot_key = true;
+      break;
+    // The view keys (numpad-like, the digits of the top row or of the keypad): 1 front, 3 the
+    // head's right side, 7 top; with Ctrl the opposite view (back, left side, bottom).
+    case GLFW_KEY_1:
+    case GLFW_KEY_KP_1:
+      if (press) app->camera.SetView(ctrl ? ViewSide::kBack : ViewSide::kFront);
+      break;
+    case GLFW_KEY_3:
+    case GLFW_KEY_KP_3:
+      if (press) app->camera.SetView(ctrl ? ViewSide::kLeft : ViewSide::kRight);
+      break;
+    case GLFW_KEY_7:
+    case GLFW_KEY_KP_7:
+      if (press) app->camera.SetView(ctrl ? ViewSide::kBottom : ViewSide::kTop);
+      break;
     case GLFW_KEY_Z:
       if (press && ctrl) {
         const bool shift = (e.mods & GLFW_MOD_SHIFT) != 0;
@@ -1295,7 +1395,8 @@ void HandleInput(App* app, const std::vector<InputEvent>& events) {
         break;
       case InputEvent::Kind::kButton:
         if (e.action == GLFW_PRESS && app->drag.mode == ViewDrag::Mode::kNone &&
-            (e.code == GLFW_MOUSE_BUTTON_LEFT || e.code == GLFW_MOUSE_BUTTON_RIGHT) &&
+            (e.code == GLFW_MOUSE_BUTTON_LEFT || e.code == GLFW_MOUSE_BUTTON_RIGHT ||
+             e.code == GLFW_MOUSE_BUTTON_MIDDLE) &&
             !io.MouseDownOwned[e.code]) {
           ViewDrag& d = app->drag;
           d.button = e.code;
@@ -1308,7 +1409,10 @@ void HandleInput(App* app, const std::vector<InputEvent>& events) {
           d.plane_roll = app->plane_roll;
           d.sphere_centre_z = app->sphere_centre[2];
           d.sphere_radius = app->sphere_radius;
+          // Middle drag and Alt+left drag orbit whatever tool is on.
+          const bool orbit = e.code == GLFW_MOUSE_BUTTON_MIDDLE || (e.mods & GLFW_MOD_ALT) != 0;
           d.mode = e.code == GLFW_MOUSE_BUTTON_RIGHT ? ViewDrag::Mode::kPan
+                   : orbit                           ? ViewDrag::Mode::kOrbit
                    : app->brush_mode                 ? ViewDrag::Mode::kBrush
                    : app->cut_tool != 0              ? ViewDrag::Mode::kGizmo
                                                      : ViewDrag::Mode::kOrbit;
@@ -1344,6 +1448,8 @@ void WriteReport(App* app) {
   r["up_to_date"] = s.UpToDate();
   const auto hair = s.Hair();
   r["strands"] = hair && hair->strands ? hair->strands->NumStrands() : 0;
+  // The masters being solved are on screen (Session::Preview), not yet the hair.
+  r["masters_preview"] = app->uploaded && app->uploaded != hair;
   r["message"] = app->message;
   r["modified"] = s.Modified();
   r["document"] = s.CurrentDocument().parameters;
@@ -1367,6 +1473,20 @@ void WriteReport(App* app) {
   r["centre_on_screen"] = {(x0 + (0.5f + 0.5f * p.x() / p.w()) * (fw - x0)) / scale,
                            (0.5f - 0.5f * p.y() / p.w()) * fh / scale};
   r["masters_only"] = app->look.masters_only;
+  r["headlight"] = app->look.headlight;
+  r["fov"] = c.fov;
+  r["panel_width"] = app->panel_width;
+  r["field_width"] = FieldWidth();
+  r["panel_content_width"] = app->panel_content_width;
+  r["panel_inner_width"] = app->panel_inner_width;
+  r["font_size"] = ImGui::GetFontSize();
+  r["segments_drawn"] = app->viewer.DrawnSegments();
+  r["segments_total"] = app->viewer.TotalSegments();
+  r["master_segments"] = app->viewer.MasterSegments();
+  r["preview"] = app->preview_shown;
+  r["refining"] = app->refining;
+  r["preview_budget"] = app->preview_budget;
+  r["draw_seconds"] = app->draw_seconds;
   r["cut_tool"] = app->cut_tool;
   r["plane_height"] = app->plane_height;
   r["brush"] = s.brush.size();
@@ -1382,6 +1502,9 @@ void WriteReport(App* app) {
   }
   app->last_report = std::move(text);
 }
+
+// Declared here: Frame writes the F12 screenshot.
+bool Screenshot(App* app, const std::string& path, std::string* error);
 
 // One frame: sync, the events of the frame, panel, draw (the 3D view right of the panel).
 void Frame(App* app) {
@@ -1402,8 +1525,60 @@ void Frame(App* app) {
   ImGui::Render();
   int w, h;
   glfwGetFramebufferSize(app->window, &w, &h);
-  app->viewer.Draw(app->camera, app->look, PanelPixels(app), w, h);
+  // The preview density while the camera moves (a drag, keys, the wheel), a solve runs, or new
+  // hair has just arrived; full density once still for kStillSeconds.
+  const double now = glfwGetTime();
+  const OrbitCamera& c = app->camera;
+  const OrbitCamera& d = app->drawn_camera;
+  if (c.yaw != d.yaw || c.pitch != d.pitch || c.distance != d.distance || c.fov != d.fov ||
+      c.target != d.target) {
+    app->last_motion = now;
+  }
+  const bool preview =
+      app->allow_preview && (app->session.Busy() || now - app->last_motion < kStillSeconds);
+  const auto draw_start = std::chrono::steady_clock::now();
+  app->refining = false;
+  if (preview || !app->allow_preview) {
+    app->viewer.Draw(app->camera, app->look, PanelPixels(app), w, h,
+                     preview ? app->preview_budget : -1);
+  } else {
+    // Full density, a budget of segments per frame (DrawRefining): the UI keeps up meanwhile.
+    app->refining = !app->viewer.DrawRefining(app->camera, app->look, PanelPixels(app), w, h,
+                                              app->preview_budget);
+  }
+  const long drawn = app->viewer.LastDrawSegments();
+  glFinish();  // the draw's time (llvmpipe draws here; a GPU waits for a few milliseconds)
+  app->draw_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - draw_start).count();
+  app->drawn_camera = app->camera;
+  const long full =
+      app->look.masters_only ? app->viewer.MasterSegments() : app->viewer.TotalSegments();
+  app->preview_shown = preview && app->viewer.DrawnSegments() < full;
+  // The budget: the segments drawn in kPreviewSeconds at the measured rate.
+  if (app->fixed_preview >= 0) {
+    app->preview_budget = app->fixed_preview;
+  } else if (drawn >= kMinPreview && app->draw_seconds > 0.0) {
+    app->segments_per_second = drawn / app->draw_seconds;
+    app->preview_budget = std::clamp(static_cast<long>(app->segments_per_second * kPreviewSeconds),
+                                     kMinPreview, kMaxPreview);
+  }
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  if (app->screenshot_key) {
+    // F12: the window as drawn, to the first free studio-NNN.png of the working directory.
+    app->screenshot_key = false;
+    for (int n = 1; n < 1000; ++n) {
+      char name[32];
+      std::snprintf(name, sizeof(name), "studio-%03d.png", n);
+      if (Exists(name)) continue;
+      std::string error;
+      if (Screenshot(app, name, &error)) {
+        app->message = std::string("wrote ") + name;
+      } else {
+        Report(app, error);
+      }
+      break;
+    }
+  }
   ++app->frames;
   WriteReport(app);
   if (app->min_frame_seconds > 0.0) {
@@ -1449,15 +1624,24 @@ bool Screenshot(App* app, const std::string& path, std::string* error) {
 }
 
 // The interactive loop. A frame is drawn when something changed: events (and a few frames after
-// them, for ImGui's layout), a solve's progress or result, a render pass. Idle, it sleeps in
+// them, for ImGui's layout), a solve's progress or result, a render pass, and once at full
+// density after a preview (kStillSeconds after the last motion). Idle, it sleeps in
 // glfwWaitEvents (no CPU); while the worker or the renderer runs, it looks at them ten times a
 // second.
 void RunInteractive(App* app) {
   while (!app->quit) {
+    if (app->refining) app->redraw_frames = std::max(app->redraw_frames, 1);
     if (app->events.empty() && app->redraw_frames <= 0) {
+      const double still_in = app->last_motion + kStillSeconds - glfwGetTime();
       if (app->session.Busy() || app->render.running) {
         glfwWaitEventsTimeout(0.1);
         app->redraw_frames = std::max(app->redraw_frames, 1);
+      } else if (app->preview_shown) {
+        // The full density once the view has been still for kStillSeconds.
+        if (still_in > 0.0) glfwWaitEventsTimeout(still_in);
+        if (app->last_motion + kStillSeconds <= glfwGetTime()) {
+          app->redraw_frames = std::max(app->redraw_frames, 1);
+        }
       } else {
         glfwWaitEvents();
       }
@@ -1786,6 +1970,7 @@ int Main(int argc, char** argv) {
   std::string hairstyle, script, screenshot, report;
   int width = 1280, height = 800;
   double min_frame_seconds = 0.0;
+  long preview_segments = -1;
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
     if (a == "--script" && k + 1 < argc) {
@@ -1801,6 +1986,13 @@ int Main(int argc, char** argv) {
         std::fprintf(stderr, "ringlet-studio: --min-frame-seconds: expected seconds in [0, 10]\n");
         return 1;
       }
+    } else if (a == "--preview-segments" && k + 1 < argc) {
+      char* end = nullptr;
+      preview_segments = std::strtol(argv[++k], &end, 10);
+      if (!end || *end != '\0' || preview_segments < 0) {
+        std::fprintf(stderr, "ringlet-studio: --preview-segments: expected a count >= 0\n");
+        return 1;
+      }
     } else if (a == "--size" && k + 1 < argc) {
       if (std::sscanf(argv[++k], "%dx%d", &width, &height) != 2 || width < 64 || height < 64) {
         std::fprintf(stderr, "ringlet-studio: --size: expected WxH (e.g. 1280x800)\n");
@@ -1809,13 +2001,15 @@ int Main(int argc, char** argv) {
     } else if (a == "-h" || a == "--help") {
       std::printf(
           "usage: ringlet-studio [HAIRSTYLE.json] [--script FILE] [--screenshot OUT.png] "
-          "[--size WxH] [--report FILE] [--min-frame-seconds S]\n"
+          "[--size WxH] [--report FILE] [--min-frame-seconds S] [--preview-segments N]\n"
           "  --screenshot OUT.png  with --script: the last frame; without: the first solved\n"
           "                        frame of HAIRSTYLE.json, then exit\n"
           "  --report FILE         after each frame, the widgets' rectangles and the document\n"
           "                        as JSON (for tests that drive the window with input events)\n"
           "  --min-frame-seconds S each frame lasts at least S (tests of input at low frame\n"
-          "                        rates)\n");
+          "                        rates)\n"
+          "  --preview-segments N  the preview density's budget of segments (while the camera\n"
+          "                        moves or a solve runs); by default from the measured speed\n");
       return 0;
     } else if (!a.empty() && a[0] != '-' && hairstyle.empty()) {
       hairstyle = a;
@@ -1852,6 +2046,17 @@ int Main(int argc, char** argv) {
   ImGui::GetIO().IniFilename = nullptr;
   ImGui::GetIO().ConfigInputTextCursorBlink = false;  // a blinking cursor would redraw forever
   ImGui::StyleColorsDark();
+  // A readable font: DejaVu Sans (fonts-dejavu-core), or ImGui's own with one line of warning.
+  const ImFont* font = std::filesystem::exists(kFontPath)
+                           ? ImGui::GetIO().Fonts->AddFontFromFileTTF(kFontPath, kFontPixels)
+                           : nullptr;
+  if (!font) {
+    std::fprintf(stderr,
+                 "ringlet-studio: warning: %s not found (Debian package fonts-dejavu-core): "
+                 "using ImGui's default font\n",
+                 kFontPath);
+    ImGui::GetIO().Fonts->AddFontDefault();
+  }
   // No backend callbacks: the studio's own queue every event (InstallCallbacks) and give ImGui
   // its state frame by frame (FeedImGui).
   ImGui_ImplGlfw_InitForOpenGL(window, false);
@@ -1862,6 +2067,9 @@ int Main(int argc, char** argv) {
     app.window = window;
     app.report_path = report;
     app.min_frame_seconds = script.empty() ? min_frame_seconds : 0.0;
+    app.allow_preview = script.empty() && screenshot.empty();
+    app.fixed_preview = preview_segments;
+    if (preview_segments >= 0) app.preview_budget = preview_segments;
     glfwSetWindowUserPointer(window, &app);
     glfwGetCursorPos(window, &app.cursor_x, &app.cursor_y);
     InstallCallbacks(window);

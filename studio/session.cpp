@@ -11,6 +11,7 @@
 
 #include "ringlet/atomic_file.h"
 #include "ringlet/hairstyle_json.h"
+#include "ringlet/strand_geometry.h"
 
 namespace ringlet::studio {
 namespace {
@@ -431,6 +432,12 @@ bool Session::Busy() const {
   return pending_ || running_ || !finished_.empty();
 }
 
+std::shared_ptr<const HairState> Session::Preview() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (shown_ || preview_generation_ != scheduled_generation_) return nullptr;
+  return preview_;
+}
+
 void Session::Progress(int* done, int* total, std::string* what) const {
   std::lock_guard<std::mutex> lock(mutex_);
   *done = running_ ? progress_done_.load() : 0;
@@ -458,6 +465,7 @@ void Session::Schedule(int entry) {
   if (cancel_ || pending_) ++cancelled_;
   scheduled_generation_ = ++generation_;
   pending_.reset();
+  preview_.reset();
   if (entry < 0) return;
   auto job = std::make_unique<JobData>();
   job->entry = entry;
@@ -643,6 +651,38 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
         todo.push_back(i);
       }
     }
+    // A fresh groom (nothing solved before): the masters are published as they are solved
+    // (Preview), so that the view shows them before the whole groom is done.
+    const bool publish = candidates.empty();
+    auto last_publish = std::chrono::steady_clock::now();
+    std::vector<char> solved_yet(n, 0);
+    for (int i = 0; i < n; ++i) solved_yet[i] = groom->solutions[i].curvatures.size() > 0;
+    const auto publish_masters = [&] {
+      auto preview = std::make_shared<HairState>();
+      preview->styled.style = style;
+      preview->styled.masters = groom->masters;
+      preview->stats.what = "solving";
+      preview->stats.masters = n;
+      auto curves = std::make_shared<HairCurves>();
+      for (int i = 0; i < n; ++i) {
+        std::vector<Vec3> points;
+        if (solved_yet[i]) {
+          points = SampleCentreline(groom->masters.models[i], groom->solutions[i].curvatures, 2);
+        }
+        if (points.size() < 2) points.assign(2, groom->masters.roots[i].position);
+        curves->point_counts.push_back(static_cast<std::uint32_t>(points.size()));
+        for (const Vec3& x : points) {
+          curves->points.push_back(x.cast<float>());
+          curves->widths.push_back(8e-5f);  // drawn a pixel wide anyway
+        }
+      }
+      static std::atomic<std::uint64_t> preview_serial{1u << 30};
+      preview->strands_id = ++preview_serial;
+      preview->strands = std::move(curves);
+      std::lock_guard<std::mutex> lock(mutex_);
+      preview_ = std::move(preview);
+      preview_generation_ = job.generation;
+    };
     // Blocks of masters between cancellation checks (the same solves as one SolveStrands call).
     set_what("solving masters");
     const size_t block = 32;
@@ -662,9 +702,14 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
       for (size_t k = begin; k < end; ++k) {
         stats.iterations += solved[k - begin].summary.iterations;
         groom->solutions[todo[k]] = std::move(solved[k - begin]);
+        solved_yet[todo[k]] = 1;
       }
       progress_done_ = static_cast<int>(end);
       progress_total_ = static_cast<int>(todo.size());
+      if (publish && SecondsSince(last_publish) >= preview_seconds_) {
+        publish_masters();
+        last_publish = std::chrono::steady_clock::now();
+      }
     }
     stats.resolved = static_cast<int>(todo.size());
     stats.what = "groom";

@@ -103,6 +103,8 @@ class Session {
 
   /// Worker threads of the solves (0 = all cores).
   void SetThreads(int threads) { threads_ = threads; }
+  /// The least time between two Preview() publications (s; 0.3 by default, 0 in tests).
+  void SetPreviewSeconds(double seconds) { preview_seconds_ = seconds; }
 
   /// Reads a hairstyle file (with its operations) and starts grooming it. A bad file returns
   /// false with the CLI's one-line message and keeps the current document, hair and history.
@@ -150,6 +152,12 @@ class Session {
 
   /// The hair shown: the last finished solve (null before the first one).
   std::shared_ptr<const HairState> Hair() const { return shown_; }
+  /// While the groom of a freshly opened document is solved (no hair to show yet, Hair() null):
+  /// the masters solved so far, one polyline each (2 points per segment; a master not solved
+  /// yet is a zero-length segment at its root), published by the worker after a block of masters
+  /// at most every 0.3 s (SetPreviewSeconds); its masters, style and roots are the groom's,
+  /// stats.what "solving". Null otherwise (and once the hair is shown).
+  std::shared_ptr<const HairState> Preview() const;
   /// The document of the current history entry.
   const Document& CurrentDocument() const { return history_[cursor_].document; }
   /// Whether Hair() is the solve of the current entry (false while it is being solved).
@@ -204,6 +212,7 @@ class Session {
   std::string path_;
   std::shared_ptr<const HairState> shown_;
   int threads_ = 0;
+  double preview_seconds_ = 0.3;
 
   // Worker state, guarded by mutex_.
   mutable std::mutex mutex_;
@@ -226,6 +235,8 @@ class Session {
   std::atomic<int> progress_done_{0}, progress_total_{0};
   std::atomic<int> cancelled_{0};
   std::string progress_what_;
+  std::shared_ptr<const HairState> preview_;  // Preview(), of job preview_generation_
+  std::uint64_t preview_generation_ = 0;
   std::uint64_t scheduled_generation_ = 0;  // UI thread: the job whose result is wanted
 };
 

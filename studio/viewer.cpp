@@ -145,6 +145,26 @@ out vec4 out_colour;
 void main() { out_colour = colour; }
 )";
 
+// The refining picture on screen: a triangle over the view, the off-screen colour and depth.
+const char* kCompositeVertex = R"(#version 330 core
+void main() {
+  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
+  gl_Position = vec4(p, 0.0, 1.0);
+}
+)";
+const char* kCompositeFragment = R"(#version 330 core
+uniform sampler2D colour;
+uniform sampler2D depth;
+uniform vec2 origin;
+uniform vec2 size;
+out vec4 out_colour;
+void main() {
+  vec2 uv = (gl_FragCoord.xy - origin) / size;
+  out_colour = texture(colour, uv);
+  gl_FragDepth = texture(depth, uv).r;
+}
+)";
+
 unsigned Compile(GLenum type, const char* source, std::string* error) {
   const unsigned shader = glCreateShader(type);
   glShaderSource(shader, 1, &source, nullptr);
@@ -273,7 +293,40 @@ Eigen::Matrix4f OrbitCamera::Projection(float aspect) const {
 
 void OrbitCamera::Orbit(float dyaw, float dpitch) {
   yaw += dyaw;
-  pitch = std::clamp(pitch + dpitch, -1.5f, 1.5f);
+  pitch = std::clamp(pitch + dpitch, -kMaxPitch, kMaxPitch);
+}
+
+void OrbitCamera::LookFrom(const Eigen::Vector3f& direction) {
+  const float n = direction.norm();
+  if (!(n > 0.0f)) return;
+  const Eigen::Vector3f b = direction / n;
+  // Position() - target = distance (sin yaw cos pitch, -cos yaw cos pitch, sin pitch).
+  pitch = std::clamp(std::asin(std::clamp(b.z(), -1.0f, 1.0f)), -kMaxPitch, kMaxPitch);
+  if (b.x() != 0.0f || b.y() != 0.0f) yaw = std::atan2(b.x(), -b.y());
+}
+
+void OrbitCamera::SetView(ViewSide side) {
+  const float pi = 3.1415927f;
+  switch (side) {
+    case ViewSide::kFront:
+      yaw = pi, pitch = 0.0f;
+      break;
+    case ViewSide::kBack:
+      yaw = 0.0f, pitch = 0.0f;
+      break;
+    case ViewSide::kRight:  // the head's right (+x)
+      yaw = 0.5f * pi, pitch = 0.0f;
+      break;
+    case ViewSide::kLeft:
+      yaw = -0.5f * pi, pitch = 0.0f;
+      break;
+    case ViewSide::kTop:
+      yaw = pi, pitch = kMaxPitch;
+      break;
+    case ViewSide::kBottom:
+      yaw = pi, pitch = -kMaxPitch;
+      break;
+  }
 }
 
 void OrbitCamera::Pan(float dx, float dy) {
@@ -300,7 +353,7 @@ Viewer::Viewer() = default;
 Viewer::~Viewer() {
   if (hair_vao_) glDeleteVertexArrays(1, &hair_vao_);
   if (body_vao_) glDeleteVertexArrays(1, &body_vao_);
-  const unsigned buffers[] = {hair_vbo_, flag_vbo_, hair_ebo_, master_ebo_, body_vbo_};
+  const unsigned buffers[] = {hair_vbo_, flag_vbo_, hair_ebo_, body_vbo_};
   for (unsigned b : buffers) {
     if (b) glDeleteBuffers(1, &b);
   }
@@ -309,6 +362,10 @@ Viewer::~Viewer() {
   if (gizmo_vao_) glDeleteVertexArrays(1, &gizmo_vao_);
   if (gizmo_vbo_) glDeleteBuffers(1, &gizmo_vbo_);
   if (body_program_) glDeleteProgram(body_program_);
+  if (composite_program_) glDeleteProgram(composite_program_);
+  if (refine_fbo_) glDeleteFramebuffers(1, &refine_fbo_);
+  if (refine_colour_) glDeleteTextures(1, &refine_colour_);
+  if (refine_depth_) glDeleteTextures(1, &refine_depth_);
 }
 
 bool Viewer::Init(std::string* error) {
@@ -320,14 +377,15 @@ bool Viewer::Init(std::string* error) {
       Link({{GL_VERTEX_SHADER, kBodyVertex}, {GL_FRAGMENT_SHADER, kBodyFragment}}, error);
   gizmo_program_ =
       Link({{GL_VERTEX_SHADER, kGizmoVertex}, {GL_FRAGMENT_SHADER, kGizmoFragment}}, error);
-  if (!hair_program_ || !body_program_ || !gizmo_program_) return false;
+  composite_program_ =
+      Link({{GL_VERTEX_SHADER, kCompositeVertex}, {GL_FRAGMENT_SHADER, kCompositeFragment}}, error);
+  if (!hair_program_ || !body_program_ || !gizmo_program_ || !composite_program_) return false;
   glGenVertexArrays(1, &gizmo_vao_);
   glGenBuffers(1, &gizmo_vbo_);
   glGenVertexArrays(1, &hair_vao_);
   glGenBuffers(1, &hair_vbo_);
   glGenBuffers(1, &flag_vbo_);
   glGenBuffers(1, &hair_ebo_);
-  glGenBuffers(1, &master_ebo_);
   glGenVertexArrays(1, &body_vao_);
   glGenBuffers(1, &body_vbo_);
   return true;
@@ -363,6 +421,7 @@ void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
     return;
   }
   hair_ = hair;
+  ++hair_version_;
   bounds_.setEmpty();
   if (!hair || !hair->strands) return;
   const HairCurves& c = *hair->strands;
@@ -375,29 +434,47 @@ void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
     data[4 * i + 3] = c.widths[i];
     bounds_.extend(c.points[i]);
   }
-  // Segments of every strand, and of the masters only (the first strand of each wisp).
+  // The segments in drawing order: the masters (the first strand of each wisp) first, then the
+  // first child of every wisp, the second, ...; wisps in the order of the radical inverse of
+  // their index (van der Corput, base 2), so that any prefix of the order (the preview density,
+  // Draw's max_segments) is the masters and an even subset of the children.
   const int masters = static_cast<int>(hair->styled.masters.models.size());
-  const int per_wisp = masters > 0 ? c.NumStrands() / masters : 1;
-  std::vector<std::uint32_t> all, master;
+  const int per_wisp = masters > 0 ? std::max(1, c.NumStrands() / masters) : 1;
+  std::vector<std::uint32_t> first_point(c.NumStrands() + 1, 0);
+  for (int k = 0; k < c.NumStrands(); ++k) first_point[k + 1] = first_point[k] + c.point_counts[k];
+  std::vector<int> wisp_order(masters);
+  for (int i = 0; i < masters; ++i) wisp_order[i] = i;
+  const auto radical_inverse = [](std::uint32_t i) {
+    std::uint32_t r = 0;
+    for (int b = 0; b < 32; ++b, i >>= 1) r = (r << 1) | (i & 1u);
+    return r;
+  };
+  std::stable_sort(wisp_order.begin(), wisp_order.end(), [&](int a, int b) {
+    return radical_inverse(static_cast<std::uint32_t>(a)) <
+           radical_inverse(static_cast<std::uint32_t>(b));
+  });
+  std::vector<std::uint32_t> all;
   all.reserve(2 * c.points.size());
-  strand_of_master_.assign(masters, 0);
-  std::uint32_t first = 0;
-  for (int k = 0; k < c.NumStrands(); ++k) {
-    const bool is_master = per_wisp > 0 && k % per_wisp == 0;
-    if (is_master && k / per_wisp < masters) strand_of_master_[k / per_wisp] = k;
-    for (std::uint32_t j = 0; j + 1 < c.point_counts[k]; ++j) {
-      all.push_back(first + j);
-      all.push_back(first + j + 1);
-      if (is_master) {
-        master.push_back(first + j);
-        master.push_back(first + j + 1);
-      }
+  const auto add_strand = [&](int k) {
+    for (std::uint32_t p = first_point[k]; p + 1 < first_point[k + 1]; ++p) {
+      all.push_back(p);
+      all.push_back(p + 1);
     }
-    first += c.point_counts[k];
+  };
+  strand_of_master_.assign(masters, 0);
+  for (int j = 0; j < per_wisp; ++j) {
+    for (const int w : wisp_order) {
+      const int k = w * per_wisp + j;
+      if (k < c.NumStrands()) add_strand(k);
+      if (j == 0) strand_of_master_[w] = static_cast<std::uint32_t>(k);
+    }
+    if (j == 0) master_indices_ = static_cast<long>(all.size());
   }
-  last_upload_bytes_ = static_cast<long>((data.size() + all.size() + master.size()) * 4);
+  // Strands beyond masters x per_wisp (none in the hairstyle's layout) come last.
+  for (int k = masters * per_wisp; k < c.NumStrands(); ++k) add_strand(k);
+  if (masters == 0) master_indices_ = 0;
+  last_upload_bytes_ = static_cast<long>((data.size() + all.size()) * 4);
   hair_indices_ = static_cast<long>(all.size());
-  master_indices_ = static_cast<long>(master.size());
   glBindVertexArray(hair_vao_);
   glBindBuffer(GL_ARRAY_BUFFER, hair_vbo_);
   glBufferData(GL_ARRAY_BUFFER, data.size() * sizeof(float), data.data(), GL_STATIC_DRAW);
@@ -408,8 +485,6 @@ void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
                         reinterpret_cast<void*>(3 * sizeof(float)));
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, hair_ebo_);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, all.size() * 4, all.data(), GL_STATIC_DRAW);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, master_ebo_);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, master.size() * 4, master.data(), GL_STATIC_DRAW);
   glBindVertexArray(0);
   UploadFlags();
   if (hair->styled.style.body.get() != body_) {
@@ -431,6 +506,7 @@ void Viewer::SetBrush(const std::vector<int>& masters) {
 }
 
 void Viewer::UploadFlags() {
+  ++hair_version_;
   if (!hair_ || !hair_->strands) return;
   const HairCurves& c = *hair_->strands;
   const int masters = static_cast<int>(hair_->styled.masters.models.size());
@@ -505,57 +581,176 @@ void Viewer::UploadBody(const Body& body) {
   glBindVertexArray(0);
 }
 
+Viewer::Scene Viewer::MakeScene(const OrbitCamera& camera, const HairLook& look, int width,
+                                int height) const {
+  Scene scene;
+  scene.vp = camera.Projection(static_cast<float>(width) / std::max(1, height)) * camera.View();
+  scene.eye = camera.Position();
+  // The key light: the hairstyle's (fixed in the scene, as the path tracer's), or a headlight
+  // from the camera, raised a little (a quarter of the view's up) so that the hair keeps some
+  // modelling.
+  scene.light = look.key_light;
+  if (look.headlight) {
+    const Eigen::Matrix4f view = camera.View();
+    // The view's third row is -forward: from the target toward the eye.
+    const Eigen::Vector3f back = view.block<1, 3>(2, 0).transpose();
+    const Eigen::Vector3f up = view.block<1, 3>(1, 0).transpose();
+    scene.light = (back + 0.25f * up).normalized();
+  }
+  scene.pixels_per_unit = 0.5f * height / std::tan(0.5f * camera.fov);
+  scene.segments = (look.masters_only ? master_indices_ : hair_indices_) / 2;
+  if (!hair_ || !hair_->strands) scene.segments = 0;
+  return scene;
+}
+
+void Viewer::DrawBody(const Scene& scene) {
+  if (body_vertices_ <= 0) return;
+  glUseProgram(body_program_);
+  SetMatrix(body_program_, "view_projection", scene.vp);
+  SetVec3(body_program_, "light", scene.light);
+  glBindVertexArray(body_vao_);
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(body_vertices_));
+}
+
+void Viewer::DrawHair(const Scene& scene, const HairLook& look, long first, long count) {
+  if (count <= 0 || !hair_ || !hair_->strands) return;
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glUseProgram(hair_program_);
+  SetMatrix(hair_program_, "view_projection", scene.vp);
+  SetVec3(hair_program_, "eye", scene.eye);
+  SetVec3(hair_program_, "light", scene.light);
+  SetVec3(hair_program_, "colour", look.colour);
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  float radius = 0.1f;
+  if (const auto* s = std::get_if<SphereScalp>(&hair_->styled.style.scalp)) {
+    centre = s->head.centre.cast<float>();
+    radius = static_cast<float>(s->radius);
+  }
+  SetVec3(hair_program_, "head_centre", centre);
+  glUniform1f(glGetUniformLocation(hair_program_, "head_radius"), radius);
+  glUniform1i(glGetUniformLocation(hair_program_, "highlight_masters"),
+              look.highlight_masters || look.masters_only ? 1 : 0);
+  glUniform1f(glGetUniformLocation(hair_program_, "pixels_per_unit"), scene.pixels_per_unit);
+  glBindVertexArray(hair_vao_);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, hair_ebo_);
+  glDrawElements(GL_LINES, static_cast<GLsizei>(2 * count), GL_UNSIGNED_INT,
+                 reinterpret_cast<void*>(static_cast<std::uintptr_t>(2 * first * 4)));
+  glDisable(GL_BLEND);
+}
+
 void Viewer::Draw(const OrbitCamera& camera, const HairLook& look, int x0, int full_width,
-                  int height) {
+                  int height, long max_segments) {
   glViewport(0, 0, full_width, height);
   glClearColor(0.16f, 0.17f, 0.2f, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   const int width = std::max(1, full_width - x0);
   glViewport(x0, 0, width, height);
   glEnable(GL_DEPTH_TEST);
-  const Eigen::Matrix4f vp =
-      camera.Projection(static_cast<float>(width) / std::max(1, height)) * camera.View();
-  const Eigen::Vector3f light = Eigen::Vector3f(-0.5f, -1.0f, 1.0f).normalized();
-  const Eigen::Vector3f eye = camera.Position();
-  if (body_vertices_ > 0) {
-    glUseProgram(body_program_);
-    SetMatrix(body_program_, "view_projection", vp);
-    SetVec3(body_program_, "light", light);
-    glBindVertexArray(body_vao_);
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(body_vertices_));
-  }
-  drawn_segments_ = 0;
-  if (hair_ && hair_->strands && hair_indices_ > 0) {
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    glUseProgram(hair_program_);
-    SetMatrix(hair_program_, "view_projection", vp);
-    SetVec3(hair_program_, "eye", eye);
-    SetVec3(hair_program_, "light", light);
-    SetVec3(hair_program_, "colour", look.colour);
-    Eigen::Vector3f centre = Eigen::Vector3f::Zero();
-    float radius = 0.1f;
-    if (const auto* s = std::get_if<SphereScalp>(&hair_->styled.style.scalp)) {
-      centre = s->head.centre.cast<float>();
-      radius = static_cast<float>(s->radius);
-    }
-    SetVec3(hair_program_, "head_centre", centre);
-    glUniform1f(glGetUniformLocation(hair_program_, "head_radius"), radius);
-    glUniform1i(glGetUniformLocation(hair_program_, "highlight_masters"),
-                look.highlight_masters || look.masters_only ? 1 : 0);
-    glUniform1f(glGetUniformLocation(hair_program_, "pixels_per_unit"),
-                0.5f * height / std::tan(0.5f * camera.fov));
-    glBindVertexArray(hair_vao_);
-    const bool masters = look.masters_only;
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, masters ? master_ebo_ : hair_ebo_);
-    const long n = masters ? master_indices_ : hair_indices_;
-    glDrawElements(GL_LINES, static_cast<GLsizei>(n), GL_UNSIGNED_INT, nullptr);
-    drawn_segments_ = n / 2;
-    glDisable(GL_BLEND);
-  }
-  if (gizmo_) DrawGizmo(vp);
+  const Scene scene = MakeScene(camera, look, width, height);
+  DrawBody(scene);
+  const long n = max_segments >= 0 ? std::min(scene.segments, max_segments) : scene.segments;
+  DrawHair(scene, look, 0, n);
+  drawn_segments_ = last_draw_segments_ = n;
+  refined_ = -1;  // the refining picture is not on screen any more
+  if (gizmo_) DrawGizmo(scene.vp);
   glBindVertexArray(0);
   glUseProgram(0);
+}
+
+bool Viewer::DrawRefining(const OrbitCamera& camera, const HairLook& look, int x0, int full_width,
+                          int height, long chunk) {
+  const int width = std::max(1, full_width - x0);
+  const Scene scene = MakeScene(camera, look, width, height);
+  // The picture's inputs: when any differs from the picture being refined, it starts again.
+  const std::vector<float> key = {camera.yaw,
+                                  camera.pitch,
+                                  camera.distance,
+                                  camera.fov,
+                                  camera.target.x(),
+                                  camera.target.y(),
+                                  camera.target.z(),
+                                  look.colour.x(),
+                                  look.colour.y(),
+                                  look.colour.z(),
+                                  look.masters_only ? 1.0f : 0.0f,
+                                  look.highlight_masters ? 1.0f : 0.0f,
+                                  look.headlight ? 1.0f : 0.0f,
+                                  look.key_light.x(),
+                                  look.key_light.y(),
+                                  look.key_light.z(),
+                                  static_cast<float>(width),
+                                  static_cast<float>(height),
+                                  static_cast<float>(hair_version_),
+                                  static_cast<float>(body_vertices_)};
+  if (width != refine_width_ || height != refine_height_) {
+    // The off-screen picture: colour and depth textures of the view's size.
+    if (!refine_fbo_) {
+      glGenFramebuffers(1, &refine_fbo_);
+      glGenTextures(1, &refine_colour_);
+      glGenTextures(1, &refine_depth_);
+    }
+    glBindTexture(GL_TEXTURE_2D, refine_colour_);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, refine_depth_);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, width, height, 0, GL_DEPTH_COMPONENT,
+                 GL_UNSIGNED_INT, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, refine_fbo_);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, refine_colour_, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, refine_depth_, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    refine_width_ = width;
+    refine_height_ = height;
+    refine_key_.clear();
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, refine_fbo_);
+  glViewport(0, 0, width, height);
+  glEnable(GL_DEPTH_TEST);
+  if (key != refine_key_ || refined_ < 0) {
+    refine_key_ = key;
+    glClearColor(0.16f, 0.17f, 0.2f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    DrawBody(scene);
+    refined_ = 0;
+  }
+  // The next chunk of the drawing order (the same segments, blended in the same order, as one
+  // draw call of them all).
+  const long count = std::min(std::max(1L, chunk), scene.segments - refined_);
+  DrawHair(scene, look, refined_, count);
+  refined_ += std::max(0L, count);
+  last_draw_segments_ = std::max(0L, count);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  // On screen: the picture so far (colour and depth, so that the gizmo is hidden behind the
+  // head as in Draw), then the gizmo.
+  glViewport(0, 0, full_width, height);
+  glClearColor(0.16f, 0.17f, 0.2f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glViewport(x0, 0, width, height);
+  glUseProgram(composite_program_);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, refine_depth_);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, refine_colour_);
+  glUniform1i(glGetUniformLocation(composite_program_, "colour"), 0);
+  glUniform1i(glGetUniformLocation(composite_program_, "depth"), 1);
+  glUniform2f(glGetUniformLocation(composite_program_, "origin"), static_cast<float>(x0), 0.0f);
+  glUniform2f(glGetUniformLocation(composite_program_, "size"), static_cast<float>(width),
+              static_cast<float>(height));
+  glDepthFunc(GL_ALWAYS);
+  glBindVertexArray(gizmo_vao_);  // any VAO: the triangle's corners come from gl_VertexID
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDepthFunc(GL_LESS);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  if (gizmo_) DrawGizmo(scene.vp);
+  glBindVertexArray(0);
+  glUseProgram(0);
+  drawn_segments_ = refined_;
+  return refined_ >= scene.segments;
 }
 
 void Viewer::DrawGizmo(const Eigen::Matrix4f& vp) {

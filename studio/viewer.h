@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -15,11 +16,17 @@
 
 namespace ringlet::studio {
 
-/// Orbit camera: looks at target from yaw / pitch (rad) at distance (m).
+/// The fixed views of the view keys (docs/studio.md): the head's conventions of the hairstyle
+/// format, z up and the face toward +y (so the head's right is +x).
+enum class ViewSide : std::uint8_t { kFront, kBack, kRight, kLeft, kTop, kBottom };
+
+/// Orbit camera: looks at target from yaw / pitch (rad) at distance (m). The camera sits at
+/// target + distance (sin yaw cos pitch, -cos yaw cos pitch, sin pitch): yaw = 0 looks along +y
+/// from the -y side (at the back of a head whose face is toward +y), yaw = pi at the face.
 struct OrbitCamera {
   Eigen::Vector3f target = Eigen::Vector3f(0.0f, 0.0f, -0.05f);
-  float yaw = 0.5f;     ///< around +z, 0 = looking along +y (from the front of the face: -y side)
-  float pitch = 0.15f;  ///< elevation (rad), in (-pi/2, pi/2)
+  float yaw = 3.1415927f;  ///< around +z (rad); pi = in front of the face (+y side)
+  float pitch = 0.15f;     ///< elevation (rad), in [-kMaxPitch, kMaxPitch]
   float distance = 0.9f;
   float fov = 0.6f;  ///< vertical field of view (rad)
 
@@ -27,6 +34,13 @@ struct OrbitCamera {
   Eigen::Matrix4f View() const;
   Eigen::Matrix4f Projection(float aspect) const;
   void Orbit(float dyaw, float dpitch);
+  /// Turns the camera so that it sits in this direction from the target (any length; yaw and
+  /// pitch from it, the pitch clamped), keeping the target and distance.
+  void LookFrom(const Eigen::Vector3f& direction);
+  /// One of the fixed views (front: yaw pi, pitch 0; right: yaw pi/2; back: 0; left: -pi/2;
+  /// top / bottom: pitch +-kMaxPitch, the face toward the bottom / top of the screen).
+  void SetView(ViewSide side);
+  static constexpr float kMaxPitch = 1.5f;  ///< rad: the view's up (+z) stays defined
   /// Moves the target in the view plane by (dx, dy) in units of the distance.
   void Pan(float dx, float dy);
   void Zoom(float factor);
@@ -39,6 +53,10 @@ struct HairLook {
   Eigen::Vector3f colour = Eigen::Vector3f(0.25f, 0.15f, 0.08f);  ///< linear RGB of the fibres
   bool masters_only = false;                                      ///< draw the master strands alone
   bool highlight_masters = false;
+  /// The light comes from the camera (a headlight) instead of the fixed key light below.
+  bool headlight = false;
+  /// Toward the fixed key light: the hairstyle's render key light (RenderSettings::key).
+  Eigen::Vector3f key_light = Eigen::Vector3f(-0.4f, 0.8f, 1.0f).normalized();
 };
 
 /// The base colour of hair with these melanins: exp(-3 sigma_a) of Chiang's absorption
@@ -67,8 +85,19 @@ class Viewer {
   /// Marks the brushed masters (highlighted) and re-uploads the per-vertex flags.
   void SetBrush(const std::vector<int>& masters);
   /// Draws into the current framebuffer of full_width x height pixels, the 3D view in the
-  /// columns from x0 on (the panel covers the left).
-  void Draw(const OrbitCamera& camera, const HairLook& look, int x0, int full_width, int height);
+  /// columns from x0 on (the panel covers the left). With max_segments >= 0 (the preview
+  /// density while the camera moves or a solve runs) only the first max_segments segments of
+  /// the drawing order are drawn: the masters first, then the first child of every wisp, the
+  /// second, ... (wisps in a well-spread order), so that any prefix is the masters and an even
+  /// subset of the children.
+  void Draw(const OrbitCamera& camera, const HairLook& look, int x0, int full_width, int height,
+            long max_segments = -1);
+  /// Full density without holding the UI: the picture is drawn off screen, chunk segments (in
+  /// the drawing order) per call, and shown as far as it got (with the gizmo on top); a change
+  /// of the camera, the look, the hair or the view's size starts it again. True once every
+  /// segment is in it (the picture equals Draw's at full density, without multisampling).
+  bool DrawRefining(const OrbitCamera& camera, const HairLook& look, int x0, int full_width,
+                    int height, long chunk);
   /// The box of the hair and body (for frame-all).
   const Eigen::AlignedBox3f& Bounds() const { return bounds_; }
   /// Masters whose roots are within radius pixels of (x, y) (pixels, top-left origin) and face
@@ -85,10 +114,25 @@ class Viewer {
   }
   /// Number of segments drawn by the last Draw.
   long DrawnSegments() const { return drawn_segments_; }
+  /// Segments drawn by the last Draw or DrawRefining call itself (a refining call: its chunk).
+  long LastDrawSegments() const { return last_draw_segments_; }
+  /// Segments of all strands, and of the masters alone.
+  long TotalSegments() const { return hair_indices_ / 2; }
+  long MasterSegments() const { return master_indices_ / 2; }
   /// Bytes sent to the GPU by the last SetHair (all buffers, or the regrown wisps only).
   long LastUploadBytes() const { return last_upload_bytes_; }
 
  private:
+  // What a frame draws with (Draw, DrawRefining).
+  struct Scene {
+    Eigen::Matrix4f vp;
+    Eigen::Vector3f eye, light;
+    float pixels_per_unit = 1.0f;
+    long segments = 0;  // of the look (masters only, or all)
+  };
+  Scene MakeScene(const OrbitCamera& camera, const HairLook& look, int width, int height) const;
+  void DrawBody(const Scene& scene);
+  void DrawHair(const Scene& scene, const HairLook& look, long first, long count);
   void UploadFlags();
   void DrawGizmo(const Eigen::Matrix4f& view_projection);
   void UploadBody(const Body& body);
@@ -97,16 +141,22 @@ class Viewer {
   const Body* body_ = nullptr;
   std::vector<int> brush_;
   unsigned hair_program_ = 0, body_program_ = 0;
-  unsigned hair_vao_ = 0, hair_vbo_ = 0, flag_vbo_ = 0, hair_ebo_ = 0, master_ebo_ = 0;
-  long hair_indices_ = 0, master_indices_ = 0;
+  unsigned hair_vao_ = 0, hair_vbo_ = 0, flag_vbo_ = 0, hair_ebo_ = 0;
+  long hair_indices_ = 0, master_indices_ = 0;  // the masters are the first master_indices_
   unsigned body_vao_ = 0, body_vbo_ = 0;
   long body_vertices_ = 0;
   std::vector<std::uint32_t> strand_of_master_;  // first strand of each wisp
   Eigen::AlignedBox3f bounds_;
-  long drawn_segments_ = 0;
+  long drawn_segments_ = 0, last_draw_segments_ = 0;
   long last_upload_bytes_ = 0;
   std::optional<CutRegion> gizmo_;
   unsigned gizmo_program_ = 0, gizmo_vao_ = 0, gizmo_vbo_ = 0;
+  // DrawRefining's off-screen picture, the segments in it (-1: none) and what it shows.
+  unsigned composite_program_ = 0, refine_fbo_ = 0, refine_colour_ = 0, refine_depth_ = 0;
+  int refine_width_ = 0, refine_height_ = 0;
+  long refined_ = -1;
+  std::vector<float> refine_key_;
+  std::uint64_t hair_version_ = 0;  // counts uploads of strands and flags
 };
 
 }  // namespace ringlet::studio

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 
 #include "ringlet/hairstyle_json.h"
 #include "ringlet/masters_json.h"
@@ -100,6 +102,46 @@ TEST_F(StudioSession, OpenGroomsTheHair) {
   EXPECT_GT(hair.stats.iterations, 0);
   EXPECT_EQ(hair.strands->NumStrands(), 60 * 4);
   EXPECT_EQ(hair.status.size(), 60u);
+}
+
+// Issue 26: the masters of a freshly opened file are shown as they are solved. With previews
+// after every block of 32 masters, the last one (before Poll takes the hair) holds every
+// master, each the polyline of the groom's own solution (2 points per segment).
+TEST_F(StudioSession, PreviewShowsTheMastersAsTheyAreSolved) {
+  session.SetPreviewSeconds(0.0);
+  std::string error;
+  ASSERT_TRUE(session.OpenDocument(SmallDocument(70), RINGLET_EXAMPLES_DIR, "small.json", &error))
+      << error;
+  std::shared_ptr<const HairState> preview;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  std::vector<int> solved_counts;  // masters with more than a root point, per preview seen
+  while (std::chrono::steady_clock::now() < until) {
+    if (auto p = session.Preview(); p && p != preview) {
+      preview = p;
+      int solved = 0;
+      for (std::uint32_t c : p->strands->point_counts) solved += c > 2 ? 1 : 0;
+      solved_counts.push_back(solved);
+      if (solved == 70) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ASSERT_TRUE(preview);
+  ASSERT_EQ(solved_counts.back(), 70) << "no preview with every master solved";
+  EXPECT_TRUE(std::is_sorted(solved_counts.begin(), solved_counts.end()));
+  session.Wait();
+  ASSERT_TRUE(session.Hair());
+  EXPECT_FALSE(session.Preview());  // the hair is shown: no preview any more
+  const HairState& hair = *session.Hair();
+  ASSERT_EQ(preview->strands->NumStrands(), 70);
+  size_t p = 0;
+  for (int i = 0; i < 70; ++i) {
+    const std::vector<Vec3> reference =
+        SampleCentreline(hair.base->masters.models[i], hair.base->solutions[i].curvatures, 2);
+    ASSERT_EQ(preview->strands->point_counts[i], reference.size()) << "master " << i;
+    for (const Vec3& x : reference) {
+      ASSERT_EQ(preview->strands->points[p++], x.cast<float>()) << "master " << i;
+    }
+  }
 }
 
 TEST_F(StudioSession, BadFileKeepsTheHair) {

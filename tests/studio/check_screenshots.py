@@ -13,7 +13,7 @@ import zlib
 
 import numpy as np
 
-PANEL = 400  # the panel's width (pixels, studio/main.cpp kPanelWidth)
+PANEL = 450  # the panel's width (pixels: studio/main.cpp kPanelEm = 30 em of the 15 px font)
 
 
 def read_png(path):

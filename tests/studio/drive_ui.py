@@ -7,10 +7,14 @@ the test) and --min-frame-seconds (slow frames: a click, a key tap or a whole dr
 inside one frame, as on a slow machine). Every value is set by mouse or keyboard events.
 
 usage: drive_ui.py STUDIO RINGLET HAIRSTYLE WORKDIR SECTION
-SECTION: sliders (defects 1 and 6), keys (3, 4, 6, 7) or export (2).
+SECTION: sliders (defects 1 and 6), keys (3, 4, 6, 7), export (2) or view (the view that keeps
+up: the opening view, view keys, orbit with a tool on, headlight, preview density, the resizable
+panel). With STUDIO_SHOTS=DIR set, the view section copies its screenshots (F12) there.
 """
 import json
+import math
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -18,8 +22,8 @@ import time
 STUDIO, RINGLET, HAIRSTYLE, WORK, SECTION = sys.argv[1:6]
 REPORT = os.path.join(WORK, "report.json")
 FRAME = 0.1           # --min-frame-seconds: slow frames
-PANEL = 400           # studio/main.cpp kPanelWidth (px)
-FIELD = 180           # studio/main.cpp kFieldWidth: the width of a slider's frame (px)
+PANEL = 0             # the panel's width (px): from the report (30 em of the UI font)
+FIELD = 0             # the width of a slider's frame (px): from the report (13 em)
 failures = []
 
 
@@ -114,14 +118,29 @@ def field(r, name):
     return value
 
 
+def reveal(name):
+    """Scrolls the panel with the mouse wheel (over the panel) until the widget is in the window
+    (the panel is taller than the window with the UI font)."""
+    for _ in range(40):
+        rect = widget(name)
+        if rect[1] >= 30 and rect[3] <= 790:  # below the title bar, above the bottom
+            return rect
+        xdo("mousemove", 60, 400)
+        time.sleep(2 * FRAME)
+        xdo("click", 5 if rect[3] > 790 else 4)  # wheel down / up
+        quiet()
+    check(False, f"{name} never scrolled into the window: {widget(name)}")
+    raise SystemExit(finish())
+
+
 def centre(name):
-    rect = widget(name)
+    rect = reveal(name)
     return (rect[0] + rect[2]) / 2, (rect[1] + rect[3]) / 2
 
 
 def drag_slider(name, start_x, end_x):
     """Presses on a slider at start_x, drags it to end_x in two moves a frame apart, releases."""
-    y = int(centre_y(widget(name)))
+    y = int(centre_y(reveal(name)))
     xdo("mousemove", int(round(start_x)), y)
     time.sleep(2 * FRAME)
     xdo("mousedown", 1)
@@ -135,9 +154,9 @@ def drag_slider(name, start_x, end_x):
 
 def type_into(name, text):
     """Clicks a text field, replaces its text and presses Enter."""
-    rect = widget(name)
+    rect = reveal(name)
     click(rect[0] + 20, centre_y(rect))
-    time.sleep(2 * FRAME)
+    quiet()  # the field is active before Ctrl+A selects its text
     xdo("key", "ctrl+a")
     xdo("type", text)
     xdo("key", "Return")
@@ -147,8 +166,9 @@ def type_into(name, text):
 def outside_panel():
     """Controls (labels included) reaching under the panel's scrollbar (14 px) and padding (8 px),
     or beyond it; the collapsing headers span the whole width by design."""
-    return [n for n, w in report()["widgets"].items()
-            if not n.startswith("header.") and (w[2] > PANEL - 16 or w[0] < 0)]
+    r = report()
+    return [n for n, w in r["widgets"].items()
+            if not n.startswith("header.") and (w[2] > r["panel_width"] - 16 or w[0] < 0)]
 
 
 def finish():
@@ -214,7 +234,7 @@ def sliders():
     settle()
     for header, name, lo, hi, target in (("header.masters", "wisps.tip_scale", 0.0, 2.0, 1.5),
                                          ("header.comb", "comb.tilt", 0.0, 1.5707, 0.6)):
-        click(widget(header)[0] + 40, centre_y(widget(header)))
+        click(reveal(header)[0] + 40, centre_y(widget(header)))
         wait(lambda r: name in r["widgets"], f"the {name} slider")
         before = field(report(), name)
         rect = widget(name)
@@ -228,7 +248,7 @@ def sliders():
         outside = outside_panel()
         check(not outside and (header != "header.masters" or "wisps.radius.auto" in
                                report()["widgets"]), f"controls outside the panel: {outside}")
-        click(widget(header)[0] + 40, centre_y(widget(header)))  # closed again
+        click(reveal(header)[0] + 40, centre_y(widget(header)))  # closed again
         wait(lambda r: name not in r["widgets"], f"{header} closed")
 
 
@@ -298,6 +318,8 @@ def keys():
           f"a 100 px orbit turns by 0.8 rad: {r['camera']['yaw'] - yaw:.4f}")
 
     # Defect 6: the cut tool's rows do not move the controls below them.
+    reveal("Grow")
+    reveal("cut_tool.plane")
     y_cut, y_grow = widget("Cut below")[1], widget("Grow")[1]
     for tool in ("cut_tool.plane", "cut_tool.sphere", "cut_tool.plane"):
         click(*centre(tool))
@@ -356,12 +378,186 @@ def export():
         check(same, f"Export .{ext} is `ringlet style`'s strands.{ext} byte for byte (cmp)")
 
 
+def back_vector(camera):
+    """From the target toward the camera (viewer.h OrbitCamera::Position)."""
+    y, p = camera["yaw"], camera["pitch"]
+    return (math.sin(y) * math.cos(p), -math.cos(y) * math.cos(p), math.sin(p))
+
+
+def until(condition, what, timeout=10.0):
+    """Waits until condition(report) holds (without waiting for the studio to be quiet)."""
+    end = time.time() + timeout
+    while time.time() < end:
+        r = report()
+        if condition(r):
+            return r
+        time.sleep(0.03)
+    check(False, f"timed out waiting for {what}")
+    raise SystemExit(finish())
+
+
+def shot(name, always=False):
+    """F12 saves the window as the next studio-NNN.png; kept under STUDIO_SHOTS as NAME.png.
+    Only with STUDIO_SHOTS set, unless always."""
+    if not always and not os.environ.get("STUDIO_SHOTS"):
+        return None
+    before = set(f for f in os.listdir(WORK) if f.startswith("studio-"))
+    xdo("key", "F12")
+    r = wait(lambda r: set(f for f in os.listdir(WORK) if f.startswith("studio-")) != before,
+             f"the screenshot {name}", timeout=15)
+    new = sorted(set(f for f in os.listdir(WORK) if f.startswith("studio-")) - before)
+    check(len(new) == 1 and r["message"] == f"wrote {new[0]}", f"F12 wrote {new}")
+    if os.environ.get("STUDIO_SHOTS") and new:
+        shutil.copy(os.path.join(WORK, new[0]),
+                    os.path.join(os.environ["STUDIO_SHOTS"], name + ".png"))
+    return os.path.join(WORK, new[0]) if new else None
+
+
+def view_light(path):
+    """The light in the view of a screenshot: the mean over the view (right of the panel) of
+    how much brighter than the background (viewer.cpp's clear colour) each pixel is."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from check_screenshots import read_png
+    image = read_png(path).astype(float)
+    view = image[:, int(report()["panel_width"]) + 10:, :]
+    background = view[5:20, -20:-5, :].reshape(-1, 3).mean(axis=0)
+    return float((view - background).clip(min=0).mean())
+
+
+def drag(button, x0, y0, x1, y1, modifier=None):
+    """A drag with this button from (x0, y0) to (x1, y1) in two moves, with a key held."""
+    xdo("mousemove", x0, y0)
+    time.sleep(2 * FRAME)
+    if modifier:
+        xdo("keydown", modifier)
+        time.sleep(FRAME)
+    xdo("mousedown", button)
+    time.sleep(FRAME)
+    xdo("mousemove", (x0 + x1) // 2, (y0 + y1) // 2)
+    time.sleep(FRAME)
+    xdo("mousemove", x1, y1)
+    time.sleep(2 * FRAME)
+    xdo("mouseup", button)
+    if modifier:
+        time.sleep(FRAME)
+        xdo("keyup", modifier)
+    return quiet()
+
+
+def view():
+    # The file opens facing the face: input.json places no render camera, so the view is the
+    # render's framed one, along CameraSettings::view_direction = (-0.5, -1, -0.25) (from the
+    # camera, render_json.h): the camera sits at +x, +y (the face's side), +z of the target.
+    r = report()
+    b = back_vector(r["camera"])
+    n = math.sqrt(0.5 ** 2 + 1 + 0.25 ** 2)
+    expected = (0.5 / n, 1 / n, 0.25 / n)
+    check(sum(u * v for u, v in zip(b, expected)) > 1 - 1e-6 and b[1] > 0.8,
+          f"opens facing the face, along the render's default view: {b} vs {expected}")
+    shot("studio_open", always=True)
+    # The view keys: 1 front, 3 right side, 7 top, with Ctrl the opposite (numpad-like).
+    pi = math.pi
+    for key, yaw, pitch in (("1", pi, 0.0), ("ctrl+1", 0.0, 0.0), ("3", pi / 2, 0.0),
+                            ("ctrl+3", -pi / 2, 0.0), ("7", pi, 1.5), ("ctrl+7", pi, -1.5),
+                            ("1", pi, 0.0)):
+        xdo("key", key)
+        r = until(lambda r: abs(r["camera"]["yaw"] - yaw) < 1e-5 and
+                  abs(r["camera"]["pitch"] - pitch) < 1e-5, f"the view of key {key}", timeout=5)
+        c = r["camera"]
+        check(abs(c["yaw"] - yaw) < 1e-5 and abs(c["pitch"] - pitch) < 1e-5,
+              f"key {key}: yaw {c['yaw']:.4f} (expected {yaw:.4f}), pitch {c['pitch']:.4f} "
+              f"(expected {pitch})")
+        if key in ("3", "7"):
+            shot({"3": "studio_view_side", "7": "studio_view_top"}[key])
+    # Alt+left drag orbits while the cut tool is on (the plane does not move); 0.008 rad per
+    # pixel from the press (100 px: 0.8 rad), whatever the frame rate (slow frames here).
+    click(*centre("cut_tool.plane"))
+    r = quiet()
+    yaw, pitch, height = r["camera"]["yaw"], r["camera"]["pitch"], r["plane_height"]
+    r = drag(1, 900, 450, 1000, 450, "alt")
+    check(abs(r["camera"]["yaw"] - yaw + 0.8) < 1e-4 and r["camera"]["pitch"] == pitch,
+          f"Alt+left drag of 100 px with the cut tool on orbits by 0.8 rad: "
+          f"{r['camera']['yaw'] - yaw:.4f}, pitch {pitch} -> {r['camera']['pitch']}")
+    check(r["plane_height"] == height, f"... and leaves the cut plane: {height} -> "
+          f"{r['plane_height']}")
+    # A plain left drag with the cut tool on moves the plane, not the camera.
+    yaw = r["camera"]["yaw"]
+    r = drag(1, 900, 450, 900, 500)
+    check(r["camera"]["yaw"] == yaw and r["plane_height"] < height,
+          f"a left drag with the cut tool moves the plane: {height} -> {r['plane_height']}")
+    click(*centre("cut_tool.off"))
+    # Middle drag orbits while the brush is on (nothing is brushed); vertically: the pitch.
+    click(*centre("brush"))
+    r = wait(lambda r: True, "brush on")
+    yaw, pitch = r["camera"]["yaw"], r["camera"]["pitch"]
+    r = drag(2, 900, 400, 900, 350)
+    check(abs(r["camera"]["pitch"] - pitch + 0.4) < 1e-4 and r["camera"]["yaw"] == yaw and
+          r["brush"] == 0, f"a middle drag of 50 px up with the brush on pitches by -0.4 rad: "
+          f"{r['camera']['pitch'] - pitch:.4f}, {r['brush']} masters brushed")
+    click(*centre("brush"))
+    xdo("key", "1")
+    quiet()
+    # The headlight (the light follows the camera): seen from the back (Ctrl+1), the key light
+    # (the render's default, from the front and above) leaves the back in shade; the headlight
+    # lights it.
+    xdo("key", "ctrl+1")
+    until(lambda r: abs(r["camera"]["yaw"]) < 1e-6, "the back view", timeout=5)
+    quiet()
+    off = view_light(shot("studio_back_key_light", always=True))
+    click(*centre("headlight"))
+    r = wait(lambda r: r["headlight"], "the headlight")
+    on = view_light(shot("studio_headlight", always=True))
+    check(on > 1.5 * off, f"from the back, the headlight lights the view: {off:.1f} -> {on:.1f} "
+                          f"(mean brightening over the background)")
+    click(*centre("headlight"))
+    wait(lambda r: not r["headlight"], "the headlight off")
+    xdo("key", "1")
+    quiet()
+    # The preview density (--preview-segments 1000; the 60 masters are 900 segments): while
+    # the mouse orbits, the masters and 100 segments of children; full density once still.
+    r = report()
+    total, masters = r["segments_total"], r["master_segments"]
+    check(masters < 1000 < total and r["segments_drawn"] == total and not r["preview"],
+          f"still: every segment drawn ({r['segments_drawn']} of {total}, masters {masters})")
+    xdo("mousemove", 900, 450)
+    time.sleep(2 * FRAME)
+    xdo("mousedown", 1)
+    samples = []
+    for k in range(6):
+        xdo("mousemove", 900 + 10 * (k + 1), 450)
+        time.sleep(FRAME)
+        samples.append((report()["segments_drawn"], report()["preview"]))
+    xdo("mouseup", 1)
+    check(samples[-3:] == [(1000, True)] * 3,
+          f"orbiting: the preview's 1000 segments drawn (samples {samples})")
+    r = quiet()
+    check(r["segments_drawn"] == total and not r["preview"],
+          f"still again: every segment drawn ({r['segments_drawn']} of {total})")
+    # The panel is resized by dragging its right edge (ImGui's window border): 100 px wider,
+    # the view's centre 50 px to the right, every control still inside.
+    r = report()
+    width, cx = r["panel_width"], r["centre_on_screen"][0]
+    x = int(round(width)) + 2
+    r = drag(1, x, 400, x + 100, 400)
+    check(abs(r["panel_width"] - (width + 100)) <= 2,
+          f"the panel's edge dragged 100 px: {width} -> {r['panel_width']}")
+    check(abs(r["centre_on_screen"][0] - (cx + (r["panel_width"] - width) / 2)) <= 1,
+          f"the view follows the panel: centre x {cx} -> {r['centre_on_screen'][0]}")
+    check(not outside_panel() and r["panel_content_width"] <= r["panel_inner_width"] + 0.5,
+          f"every control inside the wider panel: {outside_panel()}, content "
+          f"{r['panel_content_width']} of {r['panel_inner_width']} px")
+    shot("studio_wide_panel")
+
+
 os.chdir(WORK)
+extra = ["--preview-segments", "1000"] if SECTION == "view" else []
 studio = subprocess.Popen([STUDIO, HAIRSTYLE, "--report", REPORT, "--size", "1280x800",
-                           "--min-frame-seconds", str(FRAME)])
+                           "--min-frame-seconds", str(FRAME), *extra])
 r = settle()
-print(f"opened and solved in {time.time() - T0:.1f} s: {r['strands']} strands")
+PANEL, FIELD = r["panel_width"], r["field_width"]
+print(f"opened and solved in {time.time() - T0:.1f} s: {r['strands']} strands; "
+      f"font {r['font_size']} px, panel {PANEL} px")
 xdo("mousemove", 900, 400)  # the pointer over the window: it has the keyboard focus
 time.sleep(2 * FRAME)
-{"sliders": sliders, "keys": keys, "export": export}[SECTION]()
+{"sliders": sliders, "keys": keys, "export": export, "view": view}[SECTION]()
 sys.exit(finish())
