@@ -14,6 +14,7 @@ packages=(
   xvfb xauth libgl1-mesa-dri xdotool  # the studio's headless tests (xdotool: real input events)
   clang-14 libclang-rt-14-dev
   blender  # the Blender add-on's tests (tests/blender/, headless Blender 3.4.1 with Cycles)
+  slurm-wlm munge  # tests/slurm_test.sh: a real Slurm 22.05 (slurmctld, slurmd, munged) on loopback
 )
 
 missing=()

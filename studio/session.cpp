@@ -23,6 +23,16 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 
 ojson Vector3(const Vec3& v) { return ojson::array({v.x(), v.y(), v.z()}); }
 
+// The brush fields of sculpt and puff (docs/hairstyle-format.md): radius always, the others
+// when they differ from the defaults.
+void BrushToJson(const Brush& brush, ojson* body) {
+  const Brush defaults;
+  (*body)["radius"] = brush.radius;
+  if (brush.strength != defaults.strength) (*body)["strength"] = brush.strength;
+  if (brush.falloff != defaults.falloff) (*body)["falloff"] = FalloffName(brush.falloff);
+  if (brush.mirror) (*body)["mirror"] = true;
+}
+
 // Whether two master models give the same SolveStrand result: every field SolveStrand reads,
 // compared exactly (the obstacle by identity: the studio shares one body between entries whose
 // "body" did not change).
@@ -139,6 +149,16 @@ ojson OperationToJson(const StyleOperation& op) {
     case Kind::kGrow:
       body["step"] = op.grow_step;
       body["steps"] = op.grow_steps;
+      break;
+    case Kind::kSculpt:
+      body["from"] = Vector3(op.sculpt.brush.centre);
+      body["to"] = Vector3(op.sculpt.to);
+      BrushToJson(op.sculpt.brush, &body);
+      break;
+    case Kind::kPuff:
+      body["angle"] = op.puff_angle;
+      body["centre"] = Vector3(op.puff_brush.centre);
+      BrushToJson(op.puff_brush, &body);
       break;
   }
   // The masters it acts on (every operation may have a "select").

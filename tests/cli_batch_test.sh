@@ -317,6 +317,44 @@ bad "view" 'views[0].camera.fov_degrees' '{"count": 1, "bases": ["base.json"], "
 bad "items beyond count" '--items: 0:5 goes beyond the spec' '{"count": 3, "bases": ["base.json"]}' --items 0:5
 bad "shard" '--shard: expected K/N' '{"count": 3, "bases": ["base.json"]}' --shard 3/3
 bad "json syntax" 'line 1, column' '{"count": 3,, }'
+ok_spec='{"count": 3, "bases": ["base.json"]}'
+bad "slurm tasks beyond items" '--slurm-tasks: 4 tasks for 3 items' "$ok_spec" --slurm-script --slurm-tasks 4
+bad "slurm tasks and items per task" '--slurm-tasks and --slurm-items-per-task: give one' "$ok_spec" \
+  --slurm-script --slurm-tasks 2 --slurm-items-per-task 2
+bad "slurm time" '--slurm-time: expected a time limit' "$ok_spec" --slurm-script --slurm-time 1h
+bad "slurm partition" '--slurm-partition: expected a non-empty word' "$ok_spec" --slurm-script \
+  --slurm-partition 'a b'
+bad "slurm own option" '--slurm-option: --array is set by the script itself' "$ok_spec" \
+  --slurm-script --slurm-option=--array=0-9
+bad "slurm with shard" '--shard: not with --slurm-script' "$ok_spec" --slurm-script --shard 0/2
+bad "slurm option alone" '--slurm-tasks: needs --slurm-script or --slurm-unfinished' "$ok_spec" \
+  --slurm-tasks 2
+bad "slurm both modes" '--slurm-script and --slurm-unfinished: give one' "$ok_spec" --slurm-script \
+  --slurm-unfinished
+# --slurm-script without FILE: the script on stdout; OUTDIR made with its spec.json and log folder.
+run batch "$SMALL" -o "$work/slurm" --items 2:12 --slurm-script --slurm-items-per-task 4
+expect_rc "--slurm-script to stdout" 0
+if grep -qx '#SBATCH --array=0-2' "$work/stdout" &&
+  grep -qF -- "batch '$SMALL' -o '$work/slurm' --items 2:12 --shard \"\${SLURM_ARRAY_TASK_ID}/3\"" \
+    "$work/stdout" && [ -d "$work/slurm/slurm-logs" ] && cmp -s "$SMALL" "$work/slurm/spec.json"; then
+  ok
+else
+  fail "--slurm-script to stdout: $(cat "$work/stdout" "$work/stderr")"
+fi
+# The tasks not done: all 3; after a run of items 2 to 5 (task 0 has 2 to 4, task 1 5 to 7), 1-2.
+run batch "$SMALL" -o "$work/slurm" --items 2:12 --slurm-unfinished --slurm-items-per-task 4
+if [ "$rc" -eq 0 ] && [ "$(cat "$work/stdout")" = 0-2 ]; then ok; else
+  fail "--slurm-unfinished before any run: rc $rc, \"$(cat "$work/stdout")\""
+fi
+run batch "$SMALL" -o "$work/slurm" --items 2:6 -q
+run batch "$SMALL" -o "$work/slurm" --items 2:12 --slurm-unfinished --slurm-items-per-task 4
+if [ "$rc" -eq 0 ] && [ "$(cat "$work/stdout")" = 1-2 ]; then ok; else
+  fail "--slurm-unfinished after task 0's items: rc $rc, \"$(cat "$work/stdout")\""
+fi
+run batch "$work/specs/failing.json" -o "$work/slurm" --slurm-script "$work/job.sh"
+expect_rc "--slurm-script on another spec's dataset" 1
+expect_one_error_line "--slurm-script on another spec's dataset" "holds the dataset of another spec"
+if [ ! -e "$work/job.sh" ]; then ok; else fail "--slurm-script wrote a script for another spec's dataset"; fi
 # Another spec's dataset is not mixed with this one's.
 run batch "$work/specs/failing.json" -o "$work/a"
 expect_rc "another spec's directory" 1

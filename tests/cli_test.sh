@@ -324,6 +324,41 @@ sys.exit(0 if ops == ["wet", "cut", "dry", "grow"] else 1)
 ' "$work/style_out/masters.json"; then ok; else
   fail "style: operations not reported in command-line order"
 fi
+# Brush strokes as data (docs/styling.md, "Brushes"): a file's mirrored sculpt stroke behind the
+# head and a puff at the crown replay bit for bit, change the hair, and are reported in order.
+"$PYTHON" - "$work/style.json" "$work/sculpt.json" <<'EOF'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+doc["operations"] = [
+    {"sculpt": {"from": [0.02, -0.12, -0.05], "to": [0.05, -0.13, -0.04], "radius": 0.08,
+                "mirror": True}},
+    {"puff": {"angle": 0.3, "centre": [0, 0, 0.1], "radius": 0.08, "falloff": "linear"}}]
+json.dump(doc, open(sys.argv[2], "w"))
+EOF
+run style "$work/sculpt.json" -o "$work/sculpt_a"
+expect_rc "style sculpt/puff" 0
+run style "$work/sculpt.json" -o "$work/sculpt_b"
+expect_rc "style sculpt/puff again" 0
+cmp -s "$work/sculpt_a/strands.hair" "$work/sculpt_b/strands.hair" && ok ||
+  fail "style sculpt/puff: two runs differ"
+run groom "$work/style.json" -o "$work/sculpt_plain"
+expect_rc "groom before sculpt" 0
+if cmp -s "$work/sculpt_a/strands.hair" "$work/sculpt_plain/strands.hair"; then
+  fail "style sculpt/puff: the strands equal the unstyled groom's"
+else ok; fi
+if "$PYTHON" -c '
+import json, sys
+ops = json.load(open(sys.argv[1]))["style"]["operations"]
+names = [o["name"] for o in ops]
+sys.exit(0 if names == ["sculpt", "puff"] and all(o["strands"] > 0 for o in ops) else 1)
+' "$work/sculpt_a/masters.json"; then ok; else
+  fail "style sculpt/puff: operations not reported, or one changed no master: $(cat "$work/sculpt_a/masters.json" | head -c 600)"
+fi
+sed 's/"radius": 0.08, "mirror"/"radius": 0, "mirror"/' "$work/sculpt.json" >"$work/sculpt_bad.json"
+run style "$work/sculpt_bad.json" -o "$work/style_bad/x"
+expect_rc "style sculpt radius 0" 1
+expect_one_error_line "style sculpt radius 0" "operations[0].sculpt.radius: expected a finite number in (0, 10]"
+expect_empty_dir "style sculpt radius 0" "$work/style_bad"
 # The output options of `groom` (one code, cli/outputs.h): --formats chooses the strand files and
 # with them the grow files (steps as .hair with "hair", grow.usda with "usda");
 # --hair-units-per-metre scales every .hair coordinate (read back here from the file's layout,

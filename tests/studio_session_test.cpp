@@ -12,7 +12,9 @@
 
 #include "ringlet/hairstyle_json.h"
 #include "ringlet/masters_json.h"
+#include "ringlet/strand_geometry.h"
 #include "ringlet/styling.h"
+#include "brush_tool.h"
 #include "session.h"
 
 namespace ringlet::studio {
@@ -366,6 +368,19 @@ TEST_F(StudioSession, OperationJsonRoundTrips) {
   ops[4].kind = StyleOperation::Kind::kGrow;
   ops[4].grow_step = 0.003;
   ops[4].grow_steps = 3;
+  // The brushes (styling.h, Brush): a mirrored sculpt stroke and a linear puff.
+  ops.resize(7);
+  ops[5].kind = StyleOperation::Kind::kSculpt;
+  ops[5].sculpt.brush.centre = Vec3(0.01, 0.1 / 3.0, -0.02);
+  ops[5].sculpt.to = Vec3(0.02, 0.05, -0.1 / 7.0);
+  ops[5].sculpt.brush.radius = 0.03;
+  ops[5].sculpt.brush.mirror = true;
+  ops[6].kind = StyleOperation::Kind::kPuff;
+  ops[6].puff_angle = 0.1 / 3.0;
+  ops[6].puff_brush.centre = Vec3(0.0, 0.02, 0.1);
+  ops[6].puff_brush.radius = 0.04;
+  ops[6].puff_brush.strength = 0.7;
+  ops[6].puff_brush.falloff = Brush::Falloff::kLinear;
   nlohmann::json document = {{"operations", nlohmann::json::array()}};
   for (const StyleOperation& op : ops) {
     document["operations"].push_back(nlohmann::json::parse(OperationToJson(op).dump()));
@@ -380,6 +395,12 @@ TEST_F(StudioSession, OperationJsonRoundTrips) {
   EXPECT_EQ(back[0].curl_pitch, ops[0].curl_pitch);
   EXPECT_EQ(back[2].cut_region.offset, ops[2].cut_region.offset);
   EXPECT_EQ(back[2].cut_region.normal, ops[2].cut_region.normal);
+  EXPECT_EQ(back[5].sculpt.brush.centre, ops[5].sculpt.brush.centre);
+  EXPECT_EQ(back[5].sculpt.to, ops[5].sculpt.to);
+  EXPECT_TRUE(back[5].sculpt.brush.mirror);
+  EXPECT_EQ(back[6].puff_angle, ops[6].puff_angle);
+  EXPECT_EQ(back[6].puff_brush.strength, 0.7);
+  EXPECT_EQ(back[6].puff_brush.falloff, Brush::Falloff::kLinear);
 }
 
 // The library's hook: a set cancel flag stops an operation between blocks of masters.
@@ -665,6 +686,149 @@ TEST(StudioExamples, EveryExampleOpensStylesAndSavesBitForBit) {
     ExpectSameBits(*session.Hair()->strands, StyleFile(path));
   }
   EXPECT_GE(examples_cut, 10);
+}
+
+
+
+// A comb stroke as the window makes it (a ray picks a hair point; the stroke ends in the view
+// plane) and a puff at the crown, applied through the session with mirror symmetry: the stroke
+// moves the hair it touched, leaves the masters it did not bit for bit, is saved in the file
+// as data and `ringlet style`'s code path replays the saved file bit for bit.
+TEST_F(StudioSession, CombStrokeAndPuffReplayFromTheSavedFile) {
+  Open();
+  const auto groomed = session.Hair();
+  // A tip of the hair seen from the front (+y, the face side): the ray from 1 m away, toward it.
+  const StyledHair& before = groomed->styled;
+  const Vec3 tip = ComputeGeometry(before.masters.models[5], before.solutions[5].curvatures)
+                       .points.back();
+  const Ray press{tip - Vec3(0, -1, 0), Vec3(0, -1, 0)};
+  const std::optional<Vec3> from = PickMasterPoint(before, press, 0.004);
+  ASSERT_TRUE(from.has_value());
+  // The mouse moves 3 cm to the right and 1 cm up in the view plane (the camera looks along -y).
+  const Ray release{*from + Vec3(0.03, 1, 0.01), Vec3(0, -1, 0)};
+  const Vec3 to = StrokeEnd(*from, release, press.direction);
+  EXPECT_LT((to - (*from + Vec3(0.03, 0, 0.01))).norm(), 1e-15);
+  BrushSettings brush;
+  brush.radius = 0.04;
+  brush.strength = 1.0;
+  brush.mirror = true;
+  std::string error;
+  ASSERT_TRUE(session.AddOperation(SculptOperation(brush, *from, to), &error)) << error;
+  ASSERT_TRUE(session.AddOperation(PuffOperation(brush, Vec3(0, 0, 0.1), false), &error)) << error;
+  session.Wait();
+  ASSERT_TRUE(session.UpToDate());
+  const auto styled = session.Hair();
+  EXPECT_EQ(styled->stats.what, "puff");
+  const Vec3 moved = ComputeGeometry(styled->styled.masters.models[5],
+                                     styled->styled.solutions[5].curvatures)
+                         .points.back() -
+                     tip;
+  EXPECT_GT(moved.x(), 0.01) << moved.transpose();
+  int untouched = 0;
+  for (size_t i = 0; i < before.masters.models.size(); ++i) {
+    if (styled->styled.solutions[i].curvatures == before.solutions[i].curvatures) ++untouched;
+  }
+  EXPECT_GT(untouched, 20);  // 60 masters: the stroke and the crown's puff touch some only
+  EXPECT_LT(untouched, 58);
+
+  const std::string path = TempPath("combed.json");
+  ASSERT_TRUE(session.Save(path, &error)) << error;
+  std::ifstream file(path);
+  const nlohmann::json saved = nlohmann::json::parse(file);
+  ASSERT_EQ(saved["operations"].size(), 2u);
+  EXPECT_TRUE(saved["operations"][0].contains("sculpt"));
+  EXPECT_EQ(saved["operations"][0]["sculpt"]["mirror"], true);
+  EXPECT_TRUE(saved["operations"][1].contains("puff"));
+  ExpectSameBits(*styled->strands, StyleFile(path));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The brush tools' geometry (brush_tool.h), against hand-computed points.
+
+// Two straight vertical strands of 0.2 m hanging from (0, 0, 0) and (-0.05, 0, 0): curvatures 0,
+// 10 segments, so the samples lie every 5 mm down the z axis.
+StyledHair TwoStraightStrands() {
+  StyledHair hair;
+  Mat3 frame;
+  frame << 1, 0, 0, 0, -1, 0, 0, 0, -1;  // n1 = x, n2 = -y, t = -z
+  for (double x : {0.0, -0.05}) {
+    StrandModel m;
+    m.segment_lengths = UniformSegments(0.2, 10);
+    m.root_position = Vec3(x, 0, 0);
+    m.root_frame = frame;
+    hair.masters.models.push_back(m);
+    StrandSolution s;
+    s.curvatures = VecX::Zero(30);
+    hair.solutions.push_back(s);
+  }
+  return hair;
+}
+
+TEST(StudioBrushTool, PicksTheNearestHairPointOnTheRay) {
+  const StyledHair hair = TwoStraightStrands();
+  // From +x toward -x at z = -0.1: both strands lie on the ray; the nearer (x = 0) wins, at its
+  // sample z = -0.1 (20 samples of 5 mm down).
+  const std::optional<Vec3> p = PickMasterPoint(hair, {Vec3(1, 0, -0.1), Vec3(-1, 0, 0)}, 0.003);
+  ASSERT_TRUE(p.has_value());
+  EXPECT_LT((*p - Vec3(0, 0, -0.1)).norm(), 1e-12) << p->transpose();
+  // From -x: the other strand is nearer.
+  const std::optional<Vec3> q = PickMasterPoint(hair, {Vec3(-1, 0, -0.1), Vec3(1, 0, 0)}, 0.003);
+  ASSERT_TRUE(q.has_value());
+  EXPECT_LT((*q - Vec3(-0.05, 0, -0.1)).norm(), 1e-12) << q->transpose();
+  // 1 cm beside both strands, with a reach of 3 mm: nothing; behind the eye: nothing.
+  EXPECT_FALSE(PickMasterPoint(hair, {Vec3(1, 0.01, -0.1), Vec3(-1, 0, 0)}, 0.003).has_value());
+  EXPECT_FALSE(PickMasterPoint(hair, {Vec3(-1, 0, -0.1), Vec3(-1, 0, 0)}, 0.003).has_value());
+}
+
+TEST(StudioBrushTool, PicksTheBodySurfaceAndEndsStrokesInTheViewPlane) {
+  Body body;
+  std::string error;
+  ASSERT_TRUE(Body::Create({Sphere{Vec3::Zero(), 0.1, "head"}}, {}, &body, &error)) << error;
+  // A ray along +y at height 0.05 enters the sphere at y = -sqrt(0.1^2 - 0.05^2).
+  const std::optional<Vec3> hit = PickBodyPoint(body, {Vec3(0, -1, 0.05), Vec3(0, 2, 0)}, 5.0);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_LT((*hit - Vec3(0, -std::sqrt(0.0075), 0.05)).norm(), 2e-6) << hit->transpose();
+  EXPECT_FALSE(PickBodyPoint(body, {Vec3(0, -1, 0.2), Vec3(0, 1, 0)}, 5.0).has_value());
+  EXPECT_FALSE(PickBodyPoint(body, {Vec3(0, -1, 0.05), Vec3(0, 1, 0)}, 0.5).has_value());
+
+  // The plane through `from` facing a camera looking along +y is y = from.y.
+  const Vec3 from(0.01, 0.02, 0.03);
+  EXPECT_LT((StrokeEnd(from, {Vec3(0.3, -1, 0.2), Vec3(0, 1, 0)}, Vec3(0, 1, 0)) -
+             Vec3(0.3, 0.02, 0.2))
+                .norm(),
+            1e-15);
+  const Vec3 slanted = StrokeEnd(from, {Vec3(0, -1, 0), Vec3(0.1, 1, 0.2)}, Vec3(0, 1, 0));
+  EXPECT_NEAR(slanted.y(), 0.02, 1e-15);
+  EXPECT_NEAR(slanted.x(), 0.1 * 1.02, 1e-15);
+  EXPECT_NEAR(slanted.z(), 0.2 * 1.02, 1e-15);
+  // Parallel to the plane, or meeting it behind the eye: the stroke stays at from.
+  EXPECT_EQ(StrokeEnd(from, {Vec3(0, -1, 0), Vec3(1, 0, 0)}, Vec3(0, 1, 0)), from);
+  EXPECT_EQ(StrokeEnd(from, {Vec3(0, 1, 0), Vec3(0, 1, 0)}, Vec3(0, 1, 0)), from);
+}
+
+TEST(StudioBrushTool, StrokesBecomeValidOperations) {
+  BrushSettings brush;
+  brush.radius = 0.04;
+  brush.strength = 0.8;
+  brush.falloff = Brush::Falloff::kLinear;
+  brush.mirror = false;
+  brush.puff_angle = 0.25;
+  const StyleOperation sculpt = SculptOperation(brush, Vec3(0, -0.1, 0), Vec3(0.01, -0.1, 0.02));
+  std::string why;
+  EXPECT_TRUE(sculpt.IsValid(&why)) << why;
+  EXPECT_EQ(sculpt.kind, StyleOperation::Kind::kSculpt);
+  EXPECT_EQ(sculpt.sculpt.brush.centre, Vec3(0, -0.1, 0));
+  EXPECT_EQ(sculpt.sculpt.to, Vec3(0.01, -0.1, 0.02));
+  EXPECT_EQ(sculpt.sculpt.brush.radius, 0.04);
+  EXPECT_EQ(sculpt.sculpt.brush.strength, 0.8);
+  EXPECT_EQ(sculpt.sculpt.brush.falloff, Brush::Falloff::kLinear);
+  EXPECT_FALSE(sculpt.sculpt.brush.mirror);
+  const StyleOperation lift = PuffOperation(brush, Vec3(0, 0, 0.1), false);
+  const StyleOperation flat = PuffOperation(brush, Vec3(0, 0, 0.1), true);
+  EXPECT_TRUE(lift.IsValid(&why)) << why;
+  EXPECT_EQ(lift.puff_angle, 0.25);
+  EXPECT_EQ(flat.puff_angle, -0.25);
+  EXPECT_EQ(flat.puff_brush.centre, Vec3(0, 0, 0.1));
 }
 
 }  // namespace

@@ -256,12 +256,88 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
           std::vector<StyledHair>* sequence, OperationReport* report, std::string* why,
           const StrandSelection& selection = StrandSelection());
 
+/// A brush (docs/styling.md, "Brushes"): the studio's brush circle on the head, as data. Its
+/// influence at a point at distance d from the centre is
+///   w(d) = strength f(d / radius),   f(x) = 0 for x >= 1, and for 0 <= x < 1
+///   kSmooth: 1 - 3 x^2 + 2 x^3  (smoothstep reversed: f(0) = 1, f(1) = 0, f'(0) = f'(1) = 0),
+///   kLinear: 1 - x,   kConstant: 1
+/// (the falloff curves of sculpting tools, e.g. Blender's "Smooth" / "Linear" / "Constant").
+/// With mirror the brush also acts at its image across the head's mid-plane (MirrorAcrossHead),
+/// so a stroke on one side styles both.
+struct Brush {
+  enum class Falloff { kSmooth, kLinear, kConstant };
+  Vec3 centre = Vec3::Zero();  ///< (m, world)
+  double radius = 0.03;        ///< (m), > 0
+  double strength = 1.0;       ///< in (0, 1]
+  Falloff falloff = Falloff::kSmooth;
+  bool mirror = false;
+
+  /// Checks a finite centre, radius in (0, kMaxBrushRadius] and strength in (0, 1]; says which
+  /// field ("centre", "radius", "strength") and what was expected.
+  bool IsValid(std::string* why) const;
+  /// w(d) above for a distance d >= 0 (m).
+  double Weight(double distance) const;
+};
+
+/// Largest brush radius (m): a brush of 10 m covers any head.
+inline constexpr double kMaxBrushRadius = 10.0;
+
+/// The name of a falloff as the files write it: "smooth", "linear", "constant".
+const char* FalloffName(Brush::Falloff falloff);
+
+/// The head's mid-plane is the plane through HeadFrame::centre spanned by up and front (normal
+/// to the left axis, HeadAxes' third column). The reflection of a point p across it:
+///   p' = p - 2 ((p - c) . e) e,   e the unit left axis, c the head centre;
+/// of a vector (a displacement) v: v' = v - 2 (v . e) e.
+Vec3 MirrorAcrossHead(const HeadFrame& head, const Vec3& p);
+Vec3 MirrorVectorAcrossHead(const HeadFrame& head, const Vec3& v);
+
+/// The head frame of a hairstyle's scalp (sphere or mesh).
+const HeadFrame& HairstyleHead(const Hairstyle& style);
+
+/// Sculpt (comb): drag the hair near `brush.centre` by `to - brush.centre`, and make the dragged
+/// shape a stable equilibrium with ringlet's inverse statics (inverse.h). For each selected
+/// master, with its equilibrium centreline x_j sampled at 4 points per segment (arc lengths
+/// s_j > 0), the target points are
+///   p_j = x_j + w(|x_j - c|) d  [+ w(|x_j - c'|) d'  with mirror],   d = to - c,
+/// c' and d' the mirror images of c and d (MirrorAcrossHead). The target curvatures q* of the
+/// master's own segments (the strand keeps its length: hair does not stretch; the root keeps its
+/// clamp) minimize sum_j |x_j(q) - p_j|^2 by Levenberg-Marquardt on the exact Jacobian
+/// (PointForceGradients); InvertStrand gives the rest shape (and contact support offsets) that
+/// holds q* under gravity and contact, certifies it and solves forward from it: that
+/// equilibrium becomes the master's. A target that no rest shape holds stably settles in the
+/// nearest stable equilibrium (reported as `unstable` in the message). Masters with every
+/// w = 0 keep their model and solution bit for bit. The hair keeps its sculpted rest shape
+/// through later operations except curl (which replaces the rest shape).
+struct SculptStroke {
+  Brush brush;                ///< centre = where the stroke starts (m)
+  Vec3 to = Vec3::Zero();     ///< where it ends (m); |to - centre| <= kMaxBrushRadius
+
+  /// Brush::IsValid and a finite `to` within kMaxBrushRadius of the centre.
+  bool IsValid(std::string* why) const;
+};
+
+bool Sculpt(StyledHair* state, const SculptStroke& stroke, const StrandSelection& selection,
+            const BatchOptions& batch, OperationReport* report, std::string* why);
+
+/// Puff: lift the roots under the brush. Each selected master's root frame turns about the
+/// axis t x N (t its root tangent, N the outward scalp normal at its root) by
+///   a = w(|r - c|) angle  [the larger of w(|r - c|), w(|r - c'|) with mirror],
+/// r the root, clamped so that the tilt from N stays in [0, kMaxPuffTilt]: angle > 0 raises the
+/// hair toward the normal (volume at the roots), < 0 flattens it. Then the masters whose frame
+/// turned are re-solved warm-started. |angle| <= pi / 2 (rad).
+bool Puff(StyledHair* state, double angle, const Brush& brush, const StrandSelection& selection,
+          const BatchOptions& batch, OperationReport* report, std::string* why);
+
+/// Largest tilt of a root tangent from the scalp normal a puff leaves (rad): 85 degrees.
+inline constexpr double kMaxPuffTilt = 85.0 * std::numbers::pi / 180.0;
+
 /// One styling operation with its parameters: an entry of a hairstyle file's "operations" list
 /// (ParseStyleOperations, docs/hairstyle-format.md) or one option of `ringlet style`. Only the
 /// fields of `kind` are used. ApplyOperation runs it, so the file and the command line share one
 /// code path.
 struct StyleOperation {
-  enum class Kind { kCurl, kWet, kDry, kCut, kGrow };
+  enum class Kind { kCurl, kWet, kDry, kCut, kGrow, kSculpt, kPuff };
   Kind kind = Kind::kWet;
   /// Curl: helix radius R (m, >= 0, +infinity = straight) and pitch p (m, finite, < 0 =
   /// left-handed), on the selected masters (Curl).
@@ -278,6 +354,11 @@ struct StyleOperation {
   /// each, at most kMaxGrowLength in all (Grow).
   double grow_step = 0.0;
   int grow_steps = 10;
+  /// Sculpt: the stroke (Sculpt).
+  SculptStroke sculpt;
+  /// Puff: the angle (rad, |angle| <= pi / 2) and the brush (Puff).
+  double puff_angle = 0.0;
+  Brush puff_brush;
 
   /// Checks the parameters that do not depend on the hair (the checks of Curl, Wet, Cut and
   /// Grow, with their messages; selection indices only for >= 0, the upper bound is checked
@@ -285,7 +366,8 @@ struct StyleOperation {
   bool IsValid(std::string* why) const;
 };
 
-/// The operation's name, as in OperationReport::name: "curl", "wet", "dry", "cut", "grow".
+/// The operation's name, as in OperationReport::name: "curl", "wet", "dry", "cut", "grow",
+/// "sculpt", "puff".
 const char* OperationName(StyleOperation::Kind kind);
 
 /// Runs one operation on the styled state (Curl, Wet, Dry, Cut or Grow with the operation's

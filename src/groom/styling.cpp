@@ -6,9 +6,11 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <variant>
 
 #include "ringlet/hair_type.h"
 #include "ringlet/helix.h"
+#include "ringlet/inverse.h"
 #include "ringlet/strand_geometry.h"
 #include "ringlet/wisp.h"
 
@@ -757,6 +759,273 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
 }
 
 // ---------------------------------------------------------------------------------------------
+// Brushes: sculpt and puff (docs/styling.md, "Brushes")
+
+bool Brush::IsValid(std::string* why) const {
+  if (!centre.allFinite()) return Fail(why, "centre: expected a finite point (m)");
+  if (!(radius > 0.0 && radius <= kMaxBrushRadius)) {
+    return Fail(why, "radius: expected a length in (0, " + Number(kMaxBrushRadius) +
+                         "] (m), got " + Number(radius));
+  }
+  if (!(strength > 0.0 && strength <= 1.0)) {
+    return Fail(why, "strength: expected a number in (0, 1], got " + Number(strength));
+  }
+  return true;
+}
+
+double Brush::Weight(double distance) const {
+  const double x = distance / radius;
+  if (!(x < 1.0)) return 0.0;  // outside (and NaN)
+  double f = 1.0;
+  switch (falloff) {
+    case Falloff::kSmooth:
+      f = 1.0 - x * x * (3.0 - 2.0 * x);
+      break;
+    case Falloff::kLinear:
+      f = 1.0 - x;
+      break;
+    case Falloff::kConstant:
+      break;
+  }
+  return strength * f;
+}
+
+const char* FalloffName(Brush::Falloff falloff) {
+  switch (falloff) {
+    case Brush::Falloff::kSmooth:
+      return "smooth";
+    case Brush::Falloff::kLinear:
+      return "linear";
+    case Brush::Falloff::kConstant:
+      return "constant";
+  }
+  return "smooth";
+}
+
+Vec3 MirrorAcrossHead(const HeadFrame& head, const Vec3& p) {
+  const Vec3 e = HeadAxes(head).col(2);
+  return p - 2.0 * (p - head.centre).dot(e) * e;
+}
+
+Vec3 MirrorVectorAcrossHead(const HeadFrame& head, const Vec3& v) {
+  const Vec3 e = HeadAxes(head).col(2);
+  return v - 2.0 * v.dot(e) * e;
+}
+
+const HeadFrame& HairstyleHead(const Hairstyle& style) {
+  return std::visit([](const auto& scalp) -> const HeadFrame& { return scalp.head; },
+                    style.scalp);
+}
+
+bool SculptStroke::IsValid(std::string* why) const {
+  std::string message;
+  if (!brush.IsValid(&message)) {
+    // The stroke's centre is its "from".
+    if (message.rfind("centre:", 0) == 0) message = "from:" + message.substr(7);
+    return Fail(why, "sculpt." + message);
+  }
+  if (!to.allFinite()) return Fail(why, "sculpt.to: expected a finite point (m)");
+  if (!((to - brush.centre).norm() <= kMaxBrushRadius)) {
+    return Fail(why, "sculpt.to: expected a point within " + Number(kMaxBrushRadius) +
+                         " m of from, got " + Number((to - brush.centre).norm()) + " m away");
+  }
+  return true;
+}
+
+namespace {
+
+// Where Sculpt samples a master: 4 points per segment at u = l_i k / 4 (k = 1..4), as
+// (segment, u) for PointForceGradients and as arc lengths for SampleCentrelineAt.
+constexpr int kSculptSamplesPerSegment = 4;
+
+struct SculptSamples {
+  std::vector<PointForce> places;   // one per sample (force unused)
+  std::vector<double> arc_lengths;  // s_j (m)
+};
+
+SculptSamples SculptSamplesOf(const StrandModel& model) {
+  SculptSamples out;
+  double start = 0.0;
+  for (int i = 0; i < model.NumSegments(); ++i) {
+    const double l = model.segment_lengths[i];
+    for (int k = 1; k <= kSculptSamplesPerSegment; ++k) {
+      const double u = l * k / kSculptSamplesPerSegment;
+      out.places.push_back(PointForce{i, u, Vec3::Zero()});
+      out.arc_lengths.push_back(start + u);
+    }
+    start += l;
+  }
+  return out;
+}
+
+// The curvatures of the model's own segments whose samples come closest to `targets` (least
+// squares), from `start`: Levenberg-Marquardt, J = dx/dq from PointForceGradients (its columns
+// are -J^T F for unit forces F = e_x, e_y, e_z at each sample), damping lambda diag(J^T J) (plus
+// 1e-9 of its mean, so directions that do not move the centreline, e.g. the twist of a straight
+// segment, stay where they were).
+VecX FitSamples(const StrandModel& model, const SculptSamples& samples,
+                const std::vector<Vec3>& targets, const VecX& start) {
+  const int p = static_cast<int>(targets.size());
+  std::vector<PointForce> forces;
+  forces.reserve(3 * p);
+  for (const PointForce& place : samples.places) {
+    for (int c = 0; c < 3; ++c) forces.push_back(PointForce{place.segment, place.u, Vec3::Unit(c)});
+  }
+  const auto residual = [&](const VecX& q) {
+    const std::vector<Vec3> x = SampleCentrelineAt(model, q, samples.arc_lengths);
+    VecX r(3 * p);
+    for (int j = 0; j < p; ++j) r.segment<3>(3 * j) = x[j] - targets[j];
+    return r;
+  };
+  VecX q = start;
+  VecX r = residual(q);
+  double cost = r.squaredNorm();
+  double lambda = 1e-3;
+  for (int iteration = 0; iteration < 200 && cost > 0.0; ++iteration) {
+    const MatX g = PointForceGradients(model, q, forces);  // -J^T, 3n x 3p
+    MatX a = g * g.transpose();                            // J^T J
+    const VecX rhs = g * r;                                // -J^T r
+    const double floor = 1e-9 * a.diagonal().mean();
+    bool improved = false;
+    while (lambda < 1e12) {
+      MatX m = a;
+      m.diagonal().array() += lambda * (a.diagonal().array() + floor);
+      const VecX dq = m.ldlt().solve(rhs);
+      const VecX trial = q + dq;
+      const VecX r_trial = residual(trial);
+      const double c = r_trial.squaredNorm();
+      if (std::isfinite(c) && c < cost) {
+        const bool small = cost - c <= 1e-12 * cost || dq.norm() <= 1e-12 * (1.0 + q.norm());
+        q = trial;
+        r = r_trial;
+        cost = c;
+        lambda = std::max(lambda / 3.0, 1e-12);
+        improved = !small;
+        break;
+      }
+      lambda *= 4.0;
+    }
+    if (!improved) break;
+  }
+  return q;
+}
+
+}  // namespace
+
+bool Sculpt(StyledHair* state, const SculptStroke& stroke, const StrandSelection& selection,
+            const BatchOptions& batch, OperationReport* report, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!stroke.IsValid(why)) return false;
+  const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
+  const HeadFrame& head = HairstyleHead(state->style);
+  const Brush& brush = stroke.brush;
+  const Vec3 d = stroke.to - brush.centre;
+  const Vec3 mirror_centre = MirrorAcrossHead(head, brush.centre);
+  const Vec3 mirror_d = MirrorVectorAcrossHead(head, d);
+
+  OperationReport r;
+  r.name = "sculpt";
+  std::vector<int> which;
+  std::vector<StrandModel> models;
+  std::vector<VecX> targets;
+  for (int i = 0; i < n; ++i) {
+    if (!selection.Selects(i, state->masters.roots[i])) continue;
+    if (batch.cancel && batch.cancel->load(std::memory_order_relaxed)) return Fail(why, kCancelled);
+    const StrandModel& m = state->masters.models[i];
+    const VecX& q = state->solutions[i].curvatures;
+    const SculptSamples samples = SculptSamplesOf(m);
+    std::vector<Vec3> points = SampleCentrelineAt(m, q, samples.arc_lengths);
+    bool touched = false;
+    for (Vec3& x : points) {
+      const double w = brush.Weight((x - brush.centre).norm());
+      const double w_mirror = brush.mirror ? brush.Weight((x - mirror_centre).norm()) : 0.0;
+      if (w > 0.0 || w_mirror > 0.0) touched = true;
+      x += w * d + w_mirror * mirror_d;
+    }
+    if (!touched) continue;
+    which.push_back(i);
+    targets.push_back(FitSamples(m, samples, points, q));
+    models.push_back(m);
+  }
+  r.strands = static_cast<int>(which.size());
+  if (batch.cancel && batch.cancel->load(std::memory_order_relaxed)) return Fail(why, kCancelled);
+  InverseOptions options;
+  options.naive = false;  // the forward solve from the inverted rest shape is the new equilibrium
+  const std::vector<InverseResult> inverted =
+      InvertStrands(models, targets, options, batch.threads, batch.progress);
+  if (batch.cancel && batch.cancel->load(std::memory_order_relaxed)) return Fail(why, kCancelled);
+  int unstable = 0;
+  for (size_t k = 0; k < which.size(); ++k) {
+    const InverseResult& result = inverted[k];
+    StrandModel& m = state->masters.models[which[k]];
+    m.rest_curvatures = result.rest_curvatures;
+    m.contact.support_offsets = result.support_offsets;
+    StrandSolution& solution = state->solutions[which[k]];
+    solution.curvatures = result.equilibrium;
+    solution.summary = result.forward;
+    r.iterations += result.forward.iterations;
+    if (!result.forward.Converged()) ++r.unconverged;
+    if (!result.stable) ++unstable;
+  }
+  r.seconds = SecondsSince(start);
+  r.message = Summary(r);
+  if (unstable > 0) {
+    r.message += ", " + std::to_string(unstable) +
+                 " unstable targets (each settled in the nearest stable equilibrium)";
+  }
+  if (report) *report = r;
+  return true;
+}
+
+bool Puff(StyledHair* state, double angle, const Brush& brush, const StrandSelection& selection,
+          const BatchOptions& batch, OperationReport* report, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!(std::abs(angle) <= std::numbers::pi / 2.0)) {
+    return Fail(why, "puff.angle: expected a number in [-pi/2, pi/2] (rad), got " + Number(angle));
+  }
+  std::string message;
+  if (!brush.IsValid(&message)) return Fail(why, "puff." + message);
+  const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
+  const HeadFrame& head = HairstyleHead(state->style);
+  const Vec3 mirror_centre = MirrorAcrossHead(head, brush.centre);
+
+  OperationReport r;
+  r.name = "puff";
+  std::vector<int> which;
+  std::vector<VecX> warm;
+  for (int i = 0; i < n; ++i) {
+    Root& root = state->masters.roots[i];
+    if (!selection.Selects(i, root)) continue;
+    double w = brush.Weight((root.position - brush.centre).norm());
+    if (brush.mirror) w = std::max(w, brush.Weight((root.position - mirror_centre).norm()));
+    if (w == 0.0) continue;
+    StrandModel& m = state->masters.models[i];
+    const Vec3 t = m.root_frame.col(2);
+    const Vec3 normal = root.normal.normalized();
+    const double tilt = std::acos(std::clamp(t.dot(normal), -1.0, 1.0));
+    // The new tilt from the normal, kept in [0, max(kMaxPuffTilt, tilt)] (a root already
+    // flatter than the limit is not flattened further, nor lifted past the normal).
+    const double goal = std::clamp(tilt - w * angle, 0.0, std::max(kMaxPuffTilt, tilt));
+    const double turn = tilt - goal;  // > 0 turns t toward the normal
+    const Vec3 axis = t.cross(normal);
+    if (turn == 0.0 || !(axis.norm() > 1e-12)) continue;  // t along the normal: no lift axis
+    const Mat3 rotation = Eigen::AngleAxisd(turn, axis.normalized()).toRotationMatrix();
+    m.root_frame = rotation * m.root_frame;
+    root.frame = m.root_frame;
+    which.push_back(i);
+    warm.push_back(state->solutions[i].curvatures);
+  }
+  r.strands = static_cast<int>(which.size());
+  if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
+  r.seconds = SecondsSince(start);
+  r.message = Summary(r) + " (angle " + Number(angle) + " rad)";
+  if (report) *report = r;
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
 // Operations as data
 
 const char* OperationName(StyleOperation::Kind kind) {
@@ -771,6 +1040,10 @@ const char* OperationName(StyleOperation::Kind kind) {
       return "cut";
     case StyleOperation::Kind::kGrow:
       return "grow";
+    case StyleOperation::Kind::kSculpt:
+      return "sculpt";
+    case StyleOperation::Kind::kPuff:
+      return "puff";
   }
   return "unknown";
 }
@@ -794,6 +1067,17 @@ bool StyleOperation::IsValid(std::string* why) const {
       return CheckCut(cut_region, cut, why);
     case Kind::kGrow:
       return CheckGrow(grow_step, grow_steps, why);
+    case Kind::kSculpt:
+      return sculpt.IsValid(why);
+    case Kind::kPuff: {
+      if (!(std::abs(puff_angle) <= std::numbers::pi / 2.0)) {
+        return Fail(why, "puff.angle: expected a number in [-pi/2, pi/2] (rad), got " +
+                             Number(puff_angle));
+      }
+      std::string message;
+      if (!puff_brush.IsValid(&message)) return Fail(why, "puff." + message);
+      return true;
+    }
   }
   return Fail(why, "operation: unknown kind");
 }
@@ -814,6 +1098,10 @@ bool ApplyOperation(StyledHair* state, const StyleOperation& operation, const Ba
     case StyleOperation::Kind::kGrow:
       return Grow(state, op.grow_step, op.grow_steps, batch, grow_sequence, report, why,
                   op.selection);
+    case StyleOperation::Kind::kSculpt:
+      return Sculpt(state, op.sculpt, op.selection, batch, report, why);
+    case StyleOperation::Kind::kPuff:
+      return Puff(state, op.puff_angle, op.puff_brush, op.selection, batch, report, why);
   }
   return Fail(why, "operation: unknown kind");
 }

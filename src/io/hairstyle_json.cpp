@@ -609,6 +609,70 @@ bool ParseGrowOperation(Reader& reader, const json& grow, const std::string& pat
          reader.ReadInteger(grow, path, "steps", 1, kMaxGrowSteps, &op->grow_steps);
 }
 
+// The brush fields shared by sculpt and puff: "radius" (required), "strength", "falloff",
+// "mirror" (styling.h, Brush).
+bool ParseBrushFields(Reader& reader, const json& object, const std::string& path, Brush* brush) {
+  static constexpr NumberRule kBrushRadiusRule{
+      "a finite number in (0, 10] (m)", [](double x) { return x > 0.0 && x <= kMaxBrushRadius; }};
+  static constexpr NumberRule kStrengthRule{"a finite number in (0, 1]",
+                                            [](double x) { return x > 0.0 && x <= 1.0; }};
+  if (!reader.ReadNumber(object, path, "radius", kBrushRadiusRule, true, &brush->radius) ||
+      !reader.ReadNumber(object, path, "strength", kStrengthRule, false, &brush->strength) ||
+      !reader.ReadBool(object, path, "mirror", &brush->mirror)) {
+    return false;
+  }
+  const auto falloff = object.find("falloff");
+  if (falloff != object.end()) {
+    bool known = false;
+    for (Brush::Falloff f :
+         {Brush::Falloff::kSmooth, Brush::Falloff::kLinear, Brush::Falloff::kConstant}) {
+      if (falloff->is_string() && *falloff == FalloffName(f)) {
+        brush->falloff = f;
+        known = true;
+      }
+    }
+    if (!known) {
+      return reader.Expected(Member(path, "falloff"), "\"smooth\", \"linear\" or \"constant\"",
+                             *falloff);
+    }
+  }
+  return true;
+}
+
+// "sculpt": {"from": [x, y, z], "to": [x, y, z], "radius": r, ...brush fields, "select"}.
+bool ParseSculptOperation(Reader& reader, const json& sculpt, const std::string& path,
+                          StyleOperation* op) {
+  SculptStroke& stroke = op->sculpt;
+  if (!reader.CheckFields(sculpt, path,
+                          {"from", "to", "radius", "strength", "falloff", "mirror", "select"}) ||
+      !ParseSelection(reader, sculpt, path, &op->selection) ||
+      !reader.ReadVector<3>(sculpt, path, "from", "m, where the stroke starts", true,
+                            &stroke.brush.centre) ||
+      !reader.ReadVector<3>(sculpt, path, "to", "m, where the stroke ends", true, &stroke.to) ||
+      !ParseBrushFields(reader, sculpt, path, &stroke.brush)) {
+    return false;
+  }
+  if (!((stroke.to - stroke.brush.centre).norm() <= kMaxBrushRadius)) {
+    return reader.Expected(Member(path, "to"), "a point within 10 m of \"from\"", sculpt.at("to"));
+  }
+  return true;
+}
+
+// "puff": {"angle": a, "centre": [x, y, z], "radius": r, ...brush fields, "select"}.
+bool ParsePuffOperation(Reader& reader, const json& puff, const std::string& path,
+                        StyleOperation* op) {
+  static constexpr NumberRule kPuffAngleRule{
+      "a finite number in [-pi/2, pi/2] (rad; > 0 lifts the roots)",
+      [](double x) { return std::abs(x) <= M_PI / 2.0; }};
+  return reader.CheckFields(
+             puff, path, {"angle", "centre", "radius", "strength", "falloff", "mirror", "select"}) &&
+         ParseSelection(reader, puff, path, &op->selection) &&
+         reader.ReadNumber(puff, path, "angle", kPuffAngleRule, true, &op->puff_angle) &&
+         reader.ReadVector<3>(puff, path, "centre", "m, the brush centre", true,
+                              &op->puff_brush.centre) &&
+         ParseBrushFields(reader, puff, path, &op->puff_brush);
+}
+
 bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOperation>* out) {
   const char* expected =
       "an array of operations [{\"curl\": {...}}, {\"wet\": {}}, {\"cut\": {...}}, ...]";
@@ -618,7 +682,7 @@ bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOper
   if (array) {
     const char* one_key =
         "an object with one key naming the operation (\"curl\", \"wet\", \"dry\", \"cut\", "
-        "\"grow\")";
+        "\"grow\", \"sculpt\", \"puff\")";
     for (size_t i = 0; i < array->size(); ++i) {
       const json& element = (*array)[i];
       const std::string path = Element("operations", i);
@@ -631,7 +695,8 @@ bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOper
       StyleOperation op;
       using Kind = StyleOperation::Kind;
       bool known = false;
-      for (Kind kind : {Kind::kCurl, Kind::kWet, Kind::kDry, Kind::kCut, Kind::kGrow}) {
+      for (Kind kind : {Kind::kCurl, Kind::kWet, Kind::kDry, Kind::kCut, Kind::kGrow,
+                        Kind::kSculpt, Kind::kPuff}) {
         if (name == OperationName(kind)) {
           op.kind = kind;
           known = true;
@@ -640,7 +705,7 @@ bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOper
       if (!known) {
         return reader.Fail(op_path,
                            "unknown operation (expected \"curl\", \"wet\", \"dry\", "
-                           "\"cut\" or \"grow\")");
+                           "\"cut\", \"grow\", \"sculpt\" or \"puff\")");
       }
       if (!value.is_object()) return reader.Expected(op_path, "an object", value);
       bool ok = true;
@@ -660,6 +725,12 @@ bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOper
           break;
         case Kind::kGrow:
           ok = ParseGrowOperation(reader, value, op_path, &op);
+          break;
+        case Kind::kSculpt:
+          ok = ParseSculptOperation(reader, value, op_path, &op);
+          break;
+        case Kind::kPuff:
+          ok = ParsePuffOperation(reader, value, op_path, &op);
           break;
       }
       if (!ok) return false;
