@@ -181,6 +181,9 @@ struct App {
   float sculpt_radius_mm = 30.0f, sculpt_strength = 0.5f, puff_degrees = 15.0f;
   int sculpt_falloff = 0;  // Brush::Falloff: smooth, linear, constant
   bool sculpt_mirror = true;
+  // The parting line being drawn on the head (tool 3): its two ends so far.
+  std::optional<Vec3> parting_from;
+  Vec3 parting_to = Vec3::Zero();
   // The comb stroke being dragged: its start on the hair, where the press ray met the view
   // plane through it, the camera's forward axis at the press, and its end so far.
   std::optional<Vec3> stroke_from;
@@ -1036,6 +1039,9 @@ void Panel(App* app) {
   ImGui::SameLine();
   ImGui::RadioButton("puff (Shift: flatten)", &app->sculpt_tool, 2);
   Record(app, "sculpt.puff");
+  ImGui::SameLine();
+  ImGui::RadioButton("parting", &app->sculpt_tool, 3);
+  Record(app, "sculpt.parting");
   if (app->sculpt_tool != sculpt_before && app->sculpt_tool != 0) {
     app->brush_mode = false;
     app->cut_tool = 0;
@@ -1376,15 +1382,42 @@ void SculptPress(App* app, double x, double y, int mods) {
   const Body* body = hair->styled.style.body.get();
   const std::optional<Vec3> hit = body ? PickBodyPoint(*body, ray, 100.0) : std::nullopt;
   if (!hit) {
-    Report(app, "puff: no head under the cursor (click on the head)");
+    Report(app, app->sculpt_tool == 3 ? "parting: press on the head"
+                                      : "puff: no head under the cursor (click on the head)");
+    return;
+  }
+  if (app->sculpt_tool == 3) {
+    app->parting_from = *hit;
+    app->parting_to = *hit;
     return;
   }
   AddOperation(app, PuffOperation(brush, *hit, (mods & GLFW_MOD_SHIFT) != 0));
 }
 
+// The parting plane of a line drawn on the head from a to b: the plane through both that
+// contains the head's up axis, n = (b - a) x up / |(b - a) x up|, n . (p - c) = n . (a - c) (c the
+// head centre): a parting from the forehead to the crown along a meridian or parallel to it
+// (docs/hairstyle-format.md, comb.parting). None for a line along up or shorter than 5 mm.
+std::optional<std::pair<Vec3, double>> PartingPlane(const HeadFrame& head, const Vec3& a,
+                                                    const Vec3& b) {
+  const Vec3 up = HeadAxes(head).col(0);
+  const Vec3 n = (b - a).cross(up);
+  if ((b - a).norm() < 5e-3 || !(n.norm() > 1e-3 * (b - a).norm())) return std::nullopt;
+  const Vec3 unit = n.normalized();
+  return std::pair{unit, unit.dot(a - head.centre)};
+}
+
 // The comb stroke follows the cursor in the view plane through its start (measured from the
 // press, so the hair moves exactly as far as the mouse did at the hair's depth).
 void SculptMove(App* app, double x, double y) {
+  if (app->sculpt_tool == 3 && app->parting_from) {
+    const auto hair = app->session.Hair();
+    const Body* body = hair ? hair->styled.style.body.get() : nullptr;
+    const std::optional<Vec3> hit =
+        body ? PickBodyPoint(*body, ViewRay(app, x, y), 100.0) : std::nullopt;
+    if (hit) app->parting_to = *hit;
+    return;
+  }
   if (app->sculpt_tool != 1 || !app->stroke_from) return;
   app->stroke_to = *app->stroke_from +
                    (StrokeEnd(*app->stroke_from, ViewRay(app, x, y), app->stroke_view) -
@@ -1394,6 +1427,29 @@ void SculptMove(App* app, double x, double y) {
 // The release ends the stroke: one sculpt operation (none for a click without motion).
 void SculptRelease(App* app, double x, double y) {
   SculptMove(app, x, y);
+  if (app->sculpt_tool == 3 && app->parting_from) {
+    const auto hair = app->session.Hair();
+    const std::optional<std::pair<Vec3, double>> plane =
+        hair ? PartingPlane(HairstyleHead(hair->styled.style), *app->parting_from,
+                            app->parting_to)
+             : std::nullopt;
+    app->parting_from.reset();
+    if (!plane) {
+      Report(app, "parting: draw a line on the head (at least 5 mm, not straight up)");
+      return;
+    }
+    // One edit of the document: the parting's plane, keeping its strength.
+    const nlohmann::ordered_json& doc = app->session.CurrentDocument().parameters;
+    nlohmann::ordered_json parting = {
+        {"normal", {plane->first.x(), plane->first.y(), plane->first.z()}},
+        {"offset", plane->second}};
+    if (doc.contains("comb") && doc["comb"].is_object() && doc["comb"].contains("parting") &&
+        doc["comb"]["parting"].is_object() && doc["comb"]["parting"].contains("strength")) {
+      parting["strength"] = doc["comb"]["parting"]["strength"];
+    }
+    SetField(app, "comb.parting", parting);
+    return;
+  }
   if (app->sculpt_tool == 1 && app->stroke_from &&
       (app->stroke_to - *app->stroke_from).norm() > 1e-4) {
     AddOperation(app, SculptOperation(SculptBrush(app), *app->stroke_from, app->stroke_to));
@@ -1407,6 +1463,41 @@ void DrawSculptOverlay(App* app) {
   if (app->sculpt_tool == 0) return;
   ImDrawList* draw = ImGui::GetForegroundDrawList();
   const ImU32 colour = IM_COL32(255, 220, 120, 220);
+  if (app->sculpt_tool == 3) {
+    // The document's parting on a sphere scalp: its plane's circle on the head above the
+    // centre; and the line being drawn.
+    const auto hair = app->session.Hair();
+    if (hair && hair->styled.style.comb.parting) {
+      if (const auto* sphere = std::get_if<SphereScalp>(&hair->styled.style.scalp)) {
+        const CombOptions& comb = hair->styled.style.comb;
+        const Vec3 n = comb.parting_normal.normalized(), c = sphere->head.centre;
+        const Vec3 up = HeadAxes(sphere->head).col(0);
+        const double r2 = sphere->radius * sphere->radius - comb.parting_offset * comb.parting_offset;
+        if (r2 > 0.0) {
+          const Vec3 u = n.cross(up).norm() > 1e-9 ? Vec3(n.cross(up).normalized()) : Vec3::UnitX();
+          const Vec3 v = n.cross(u);
+          std::vector<ImVec2> line;
+          for (int k = 0; k <= 96; ++k) {
+            const double t = 2.0 * std::numbers::pi * k / 96;
+            const Vec3 p = c + comb.parting_offset * n +
+                           std::sqrt(r2) * (std::cos(t) * u + std::sin(t) * v);
+            const std::optional<ImVec2> q = (p - c).dot(up) > 0.0 ? ViewPoint(app, p) : std::nullopt;
+            if (q) line.push_back(*q);
+            if ((!q || k == 96) && line.size() > 1) {
+              draw->AddPolyline(line.data(), static_cast<int>(line.size()),
+                                IM_COL32(120, 200, 255, 200), 0, 2.0f);
+            }
+            if (!q) line.clear();
+          }
+        }
+      }
+    }
+    if (app->parting_from) {
+      const auto a = ViewPoint(app, *app->parting_from), b = ViewPoint(app, app->parting_to);
+      if (a && b) draw->AddLine(*a, *b, colour, 2.0f);
+    }
+    return;
+  }
   if (app->stroke_from) {
     const auto a = ViewPoint(app, *app->stroke_from), b = ViewPoint(app, app->stroke_to);
     if (a && b) {

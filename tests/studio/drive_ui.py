@@ -582,6 +582,22 @@ def sculpt():
         op = report()["document_operations"][-1]
         check("puff" in op and abs(op["puff"]["angle"] - sign * math.radians(15)) < 1e-6,
               f"a {'Shift-' if modifier else ''}click on the head: puff {op}")
+    # A parting line drawn front to back on the side of the head facing the camera becomes
+    # the comb's parting plane, vertical and across the drawn line: one edit of the document.
+    click(*centre("sculpt.parting"))
+    r = quiet()
+    hx, hy = r["head_on_screen"]
+    history = len(r["history"])
+    drag(1, int(hx) - 25, int(hy) - 40, int(hx) + 25, int(hy) - 40)
+    r = wait(lambda r: len(r["history"]) > history, "the parting")
+    settle()
+    parting = field(report(), "comb.parting")
+    check(parting is not None and abs(parting["normal"][2]) < 1e-9 and
+          abs(math.hypot(*parting["normal"]) - 1) < 1e-9,
+          f"the drawn parting: a vertical plane through the line: {parting}")
+    check(report()["history"][-1].startswith("set comb.parting"),
+          f"one history entry: {report()['history'][-1]!r}")
+    shot("studio_parting")
     # The file replays: `ringlet style` of the saved document writes Export's bytes.
     path = os.path.join(WORK, "export.hair")
     type_into("export_path", "export.hair")
