@@ -40,6 +40,7 @@
 #include <fstream>
 #include <limits>
 #include <mutex>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -51,6 +52,8 @@
 #include "ringlet/render.h"
 #include "ringlet/render_json.h"
 #include "ringlet/strand_export.h"
+#include "ringlet/strand_geometry.h"
+#include "brush_tool.h"
 #include "session.h"
 #include "viewer.h"
 
@@ -92,7 +95,7 @@ struct InputEvent {
 
 // A drag in the view, measured from the press (not from the previous frame's cursor).
 struct ViewDrag {
-  enum class Mode : std::uint8_t { kNone, kOrbit, kPan, kBrush, kGizmo };
+  enum class Mode : std::uint8_t { kNone, kOrbit, kPan, kBrush, kGizmo, kSculpt };
   Mode mode = Mode::kNone;
   int button = -1;
   double x0 = 0.0, y0 = 0.0;  // the press (window coordinates)
@@ -171,6 +174,20 @@ struct App {
   bool brush_mode = false;
   float brush_radius = 30.0f;
   bool brush_only = true;  // operations act on the brushed masters only (when any)
+  // The sculpting brushes (brush_tool.h; docs/studio.md, "Brushes"): 0 off, 1 comb (drag the
+  // hair where it should lie: a sculpt operation, held there by inverse statics), 2 puff (click
+  // the head: the roots under the brush stand up; Shift flattens). One operation per stroke.
+  int sculpt_tool = 0;
+  float sculpt_radius_mm = 30.0f, sculpt_strength = 0.5f, puff_degrees = 15.0f;
+  int sculpt_falloff = 0;  // Brush::Falloff: smooth, linear, constant
+  bool sculpt_mirror = true;
+  // The parting line being drawn on the head (tool 3): its two ends so far.
+  std::optional<Vec3> parting_from;
+  Vec3 parting_to = Vec3::Zero();
+  // The comb stroke being dragged: its start on the hair, where the press ray met the view
+  // plane through it, the camera's forward axis at the press, and its end so far.
+  std::optional<Vec3> stroke_from;
+  Vec3 stroke_anchor = Vec3::Zero(), stroke_view = Vec3::UnitY(), stroke_to = Vec3::Zero();
   bool framed = false;
   // Operation parameters of the panel.
   float curl_radius_mm = 8.0f, curl_pitch_mm = 20.0f;
@@ -1002,7 +1019,10 @@ void Panel(App* app) {
   // Operations.
   ImGui::Separator();
   ImGui::Text("Styling");
-  ImGui::Checkbox("brush: paint roots (left drag; Ctrl erases)", &app->brush_mode);
+  if (ImGui::Checkbox("brush: paint roots (left drag; Ctrl erases)", &app->brush_mode) &&
+      app->brush_mode) {
+    app->sculpt_tool = 0;
+  }
   Record(app, "brush");
   Slider(app, "brush radius (px)", &app->brush_radius, 5.0f, 150.0f, "%.0f");
   ImGui::Text("%zu masters brushed", s.brush.size());
@@ -1012,6 +1032,33 @@ void Panel(App* app) {
     app->viewer.SetBrush(s.brush);
   }
   ImGui::Checkbox("operations act on the brushed masters only", &app->brush_only);
+  Record(app, "brush_only");
+  // The sculpting brushes: one tool at a time with the root brush and the cut tool.
+  ImGui::Text("sculpt (left drag in the view):");
+  const int sculpt_before = app->sculpt_tool;
+  ImGui::RadioButton("off##sculpt", &app->sculpt_tool, 0);
+  Record(app, "sculpt.off");
+  ImGui::SameLine();
+  ImGui::RadioButton("comb", &app->sculpt_tool, 1);
+  Record(app, "sculpt.comb");
+  ImGui::SameLine();
+  ImGui::RadioButton("puff (Shift: flatten)", &app->sculpt_tool, 2);
+  Record(app, "sculpt.puff");
+  ImGui::SameLine();
+  ImGui::RadioButton("parting", &app->sculpt_tool, 3);
+  Record(app, "sculpt.parting");
+  if (app->sculpt_tool != sculpt_before && app->sculpt_tool != 0) {
+    app->brush_mode = false;
+    app->cut_tool = 0;
+  }
+  Slider(app, "sculpt radius (mm)", &app->sculpt_radius_mm, 5.0f, 150.0f, "%.0f");
+  Slider(app, "strength", &app->sculpt_strength, 0.05f, 1.0f, "%.2f");
+  Slider(app, "puff angle (deg)", &app->puff_degrees, 1.0f, 60.0f, "%.0f");
+  ImGui::SetNextItemWidth(FieldWidth());
+  ImGui::Combo("falloff", &app->sculpt_falloff, "smooth\0linear\0constant\0");
+  Record(app, "falloff");
+  ImGui::Checkbox("mirror (both sides of the head)", &app->sculpt_mirror);
+  Record(app, "mirror");
   Slider(app, "curl radius (mm)", &app->curl_radius_mm, 1.0f, 50.0f, "%.1f");
   Slider(app, "curl pitch (mm)", &app->curl_pitch_mm, -60.0f, 60.0f, "%.1f");
   if (Button(app, "Curl", "Curl")) {
@@ -1033,10 +1080,10 @@ void Panel(App* app) {
   ImGui::RadioButton("off", &app->cut_tool, 0);
   Record(app, "cut_tool.off");
   ImGui::SameLine();
-  ImGui::RadioButton("plane", &app->cut_tool, 1);
+  if (ImGui::RadioButton("plane", &app->cut_tool, 1)) app->sculpt_tool = 0;
   Record(app, "cut_tool.plane");
   ImGui::SameLine();
-  ImGui::RadioButton("sphere", &app->cut_tool, 2);
+  if (ImGui::RadioButton("sphere", &app->cut_tool, 2)) app->sculpt_tool = 0;
   Record(app, "cut_tool.sphere");
   ImGui::SameLine();
   ImGui::BeginDisabled(app->cut_tool == 0);
@@ -1276,6 +1323,214 @@ float PixelScale(App* app) {
   return ww > 0 ? static_cast<float>(fw) / ww : 1.0f;
 }
 
+// ---------------------------------------------------------------------------------------------
+// The sculpting brushes (brush_tool.h): the mouse becomes sculpt and puff operations.
+
+// The ray from the eye through the window point (x, y) (window coordinates) of the 3D view,
+// by inverting the view's projection (the columns right of the panel, as Viewer::Draw).
+Ray ViewRay(App* app, double x, double y) {
+  int fw, fh;
+  glfwGetFramebufferSize(app->window, &fw, &fh);
+  const float scale = PixelScale(app);
+  const int x0 = PanelPixels(app);
+  const int width = std::max(1, fw - x0), height = std::max(1, fh);
+  const Eigen::Matrix4f vp =
+      app->camera.Projection(static_cast<float>(width) / height) * app->camera.View();
+  const Eigen::Matrix4f inverse = vp.inverse();
+  const float nx = 2.0f * (static_cast<float>(x) * scale - x0) / width - 1.0f;
+  const float ny = 1.0f - 2.0f * static_cast<float>(y) * scale / height;
+  const Eigen::Vector4f a = inverse * Eigen::Vector4f(nx, ny, -1.0f, 1.0f);
+  const Eigen::Vector4f b = inverse * Eigen::Vector4f(nx, ny, 1.0f, 1.0f);
+  const Vec3 near = (a.head<3>() / a.w()).cast<double>(), far = (b.head<3>() / b.w()).cast<double>();
+  return Ray{app->camera.Position().cast<double>(), (far - near).normalized()};
+}
+
+// The window point (window coordinates) where the world point p is drawn, if in front.
+std::optional<ImVec2> ViewPoint(App* app, const Vec3& p) {
+  int fw, fh;
+  glfwGetFramebufferSize(app->window, &fw, &fh);
+  const float scale = PixelScale(app);
+  const int x0 = PanelPixels(app);
+  const int width = std::max(1, fw - x0), height = std::max(1, fh);
+  const Eigen::Vector4f clip =
+      app->camera.Projection(static_cast<float>(width) / height) * app->camera.View() *
+      Eigen::Vector4f(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                      static_cast<float>(p.z()), 1.0f);
+  if (clip.w() <= 0.0f) return std::nullopt;
+  const float sx = (clip.x() / clip.w() * 0.5f + 0.5f) * width + x0;
+  const float sy = (0.5f - clip.y() / clip.w() * 0.5f) * height;
+  return ImVec2(sx / scale, sy / scale);
+}
+
+BrushSettings SculptBrush(const App* app) {
+  BrushSettings b;
+  b.radius = app->sculpt_radius_mm * 1e-3;
+  b.strength = app->sculpt_strength;
+  b.falloff = static_cast<Brush::Falloff>(app->sculpt_falloff);
+  b.mirror = app->sculpt_mirror;
+  b.puff_angle = app->puff_degrees * std::numbers::pi / 180.0;
+  return b;
+}
+
+// A press of the left button with a sculpting tool on: the comb picks the hair under the brush
+// (the point nearest the eye within the brush radius of the ray); the puff applies at once
+// where the ray enters the head.
+void SculptPress(App* app, double x, double y, int mods) {
+  const auto hair = app->session.Hair();
+  if (!hair) return;
+  const Ray ray = ViewRay(app, x, y);
+  const BrushSettings brush = SculptBrush(app);
+  if (app->sculpt_tool == 1) {
+    app->stroke_from = PickMasterPoint(hair->styled, ray, brush.radius);
+    if (!app->stroke_from) {
+      Report(app, "comb: no hair under the brush (press on the hair)");
+      return;
+    }
+    app->stroke_view = (app->camera.target - app->camera.Position()).normalized().cast<double>();
+    app->stroke_anchor = StrokeEnd(*app->stroke_from, ray, app->stroke_view);
+    app->stroke_to = *app->stroke_from;
+    return;
+  }
+  const Body* body = hair->styled.style.body.get();
+  const std::optional<Vec3> hit = body ? PickBodyPoint(*body, ray, 100.0) : std::nullopt;
+  if (!hit) {
+    Report(app, app->sculpt_tool == 3 ? "parting: press on the head"
+                                      : "puff: no head under the cursor (click on the head)");
+    return;
+  }
+  if (app->sculpt_tool == 3) {
+    app->parting_from = *hit;
+    app->parting_to = *hit;
+    return;
+  }
+  AddOperation(app, PuffOperation(brush, *hit, (mods & GLFW_MOD_SHIFT) != 0));
+}
+
+// The parting plane of a line drawn on the head from a to b: the plane through both that
+// contains the head's up axis, n = (b - a) x up / |(b - a) x up|, n . (p - c) = n . (a - c) (c the
+// head centre): a parting from the forehead to the crown along a meridian or parallel to it
+// (docs/hairstyle-format.md, comb.parting). None for a line along up or shorter than 5 mm.
+std::optional<std::pair<Vec3, double>> PartingPlane(const HeadFrame& head, const Vec3& a,
+                                                    const Vec3& b) {
+  const Vec3 up = HeadAxes(head).col(0);
+  const Vec3 n = (b - a).cross(up);
+  if ((b - a).norm() < 5e-3 || !(n.norm() > 1e-3 * (b - a).norm())) return std::nullopt;
+  const Vec3 unit = n.normalized();
+  return std::pair{unit, unit.dot(a - head.centre)};
+}
+
+// The comb stroke follows the cursor in the view plane through its start (measured from the
+// press, so the hair moves exactly as far as the mouse did at the hair's depth).
+void SculptMove(App* app, double x, double y) {
+  if (app->sculpt_tool == 3 && app->parting_from) {
+    const auto hair = app->session.Hair();
+    const Body* body = hair ? hair->styled.style.body.get() : nullptr;
+    const std::optional<Vec3> hit =
+        body ? PickBodyPoint(*body, ViewRay(app, x, y), 100.0) : std::nullopt;
+    if (hit) app->parting_to = *hit;
+    return;
+  }
+  if (app->sculpt_tool != 1 || !app->stroke_from) return;
+  app->stroke_to = *app->stroke_from +
+                   (StrokeEnd(*app->stroke_from, ViewRay(app, x, y), app->stroke_view) -
+                    app->stroke_anchor);
+}
+
+// The release ends the stroke: one sculpt operation (none for a click without motion).
+void SculptRelease(App* app, double x, double y) {
+  SculptMove(app, x, y);
+  if (app->sculpt_tool == 3 && app->parting_from) {
+    const auto hair = app->session.Hair();
+    const std::optional<std::pair<Vec3, double>> plane =
+        hair ? PartingPlane(HairstyleHead(hair->styled.style), *app->parting_from,
+                            app->parting_to)
+             : std::nullopt;
+    app->parting_from.reset();
+    if (!plane) {
+      Report(app, "parting: draw a line on the head (at least 5 mm, not straight up)");
+      return;
+    }
+    // One edit of the document: the parting's plane, keeping its strength.
+    const nlohmann::ordered_json& doc = app->session.CurrentDocument().parameters;
+    nlohmann::ordered_json parting = {
+        {"normal", {plane->first.x(), plane->first.y(), plane->first.z()}},
+        {"offset", plane->second}};
+    if (doc.contains("comb") && doc["comb"].is_object() && doc["comb"].contains("parting") &&
+        doc["comb"]["parting"].is_object() && doc["comb"]["parting"].contains("strength")) {
+      parting["strength"] = doc["comb"]["parting"]["strength"];
+    }
+    SetField(app, "comb.parting", parting);
+    return;
+  }
+  if (app->sculpt_tool == 1 && app->stroke_from &&
+      (app->stroke_to - *app->stroke_from).norm() > 1e-4) {
+    AddOperation(app, SculptOperation(SculptBrush(app), *app->stroke_from, app->stroke_to));
+  }
+  app->stroke_from.reset();
+}
+
+// The brush circle at the cursor (its radius drawn at the depth of the view's target) and the
+// comb stroke being dragged.
+void DrawSculptOverlay(App* app) {
+  if (app->sculpt_tool == 0) return;
+  ImDrawList* draw = ImGui::GetForegroundDrawList();
+  const ImU32 colour = IM_COL32(255, 220, 120, 220);
+  if (app->sculpt_tool == 3) {
+    // The document's parting on a sphere scalp: its plane's circle on the head above the
+    // centre; and the line being drawn.
+    const auto hair = app->session.Hair();
+    if (hair && hair->styled.style.comb.parting) {
+      if (const auto* sphere = std::get_if<SphereScalp>(&hair->styled.style.scalp)) {
+        const CombOptions& comb = hair->styled.style.comb;
+        const Vec3 n = comb.parting_normal.normalized(), c = sphere->head.centre;
+        const Vec3 up = HeadAxes(sphere->head).col(0);
+        const double r2 = sphere->radius * sphere->radius - comb.parting_offset * comb.parting_offset;
+        if (r2 > 0.0) {
+          const Vec3 u = n.cross(up).norm() > 1e-9 ? Vec3(n.cross(up).normalized()) : Vec3::UnitX();
+          const Vec3 v = n.cross(u);
+          std::vector<ImVec2> line;
+          for (int k = 0; k <= 96; ++k) {
+            const double t = 2.0 * std::numbers::pi * k / 96;
+            const Vec3 p = c + comb.parting_offset * n +
+                           std::sqrt(r2) * (std::cos(t) * u + std::sin(t) * v);
+            const std::optional<ImVec2> q = (p - c).dot(up) > 0.0 ? ViewPoint(app, p) : std::nullopt;
+            if (q) line.push_back(*q);
+            if ((!q || k == 96) && line.size() > 1) {
+              draw->AddPolyline(line.data(), static_cast<int>(line.size()),
+                                IM_COL32(120, 200, 255, 200), 0, 2.0f);
+            }
+            if (!q) line.clear();
+          }
+        }
+      }
+    }
+    if (app->parting_from) {
+      const auto a = ViewPoint(app, *app->parting_from), b = ViewPoint(app, app->parting_to);
+      if (a && b) draw->AddLine(*a, *b, colour, 2.0f);
+    }
+    return;
+  }
+  if (app->stroke_from) {
+    const auto a = ViewPoint(app, *app->stroke_from), b = ViewPoint(app, app->stroke_to);
+    if (a && b) {
+      draw->AddLine(*a, *b, colour, 2.0f);
+      draw->AddCircleFilled(*a, 3.0f, colour);
+    }
+  }
+  const ImVec2 cursor(static_cast<float>(app->cursor_x), static_cast<float>(app->cursor_y));
+  if (cursor.x < app->panel_width) return;
+  int fw, fh;
+  glfwGetFramebufferSize(app->window, &fw, &fh);
+  const float pixels = static_cast<float>(app->sculpt_radius_mm * 1e-3) /
+                       (app->camera.distance * std::tan(0.5f * app->camera.fov)) * 0.5f *
+                       static_cast<float>(fh) / PixelScale(app);
+  draw->AddCircle(cursor, pixels, colour, 48, 1.5f);
+  if (app->sculpt_mirror) {
+    draw->AddText(ImVec2(cursor.x + pixels + 4.0f, cursor.y - ImGui::GetFontSize()), colour,
+                  "mirror");
+  }
+}
+
 // The drag in the view at cursor (x, y): the state at the press moved by the cursor's offset
 // from the press.
 void ApplyDrag(App* app, double x, double y) {
@@ -1299,6 +1554,9 @@ void ApplyDrag(App* app, double x, double y) {
     case ViewDrag::Mode::kBrush:
       Brush(app, static_cast<float>(x) * scale, static_cast<float>(y) * scale,
             (d.mods & GLFW_MOD_CONTROL) != 0);
+      break;
+    case ViewDrag::Mode::kSculpt:
+      SculptMove(app, x, y);
       break;
     case ViewDrag::Mode::kGizmo:
       app->plane_height = d.plane_height;
@@ -1413,13 +1671,16 @@ void HandleInput(App* app, const std::vector<InputEvent>& events) {
           const bool orbit = e.code == GLFW_MOUSE_BUTTON_MIDDLE || (e.mods & GLFW_MOD_ALT) != 0;
           d.mode = e.code == GLFW_MOUSE_BUTTON_RIGHT ? ViewDrag::Mode::kPan
                    : orbit                           ? ViewDrag::Mode::kOrbit
+                   : app->sculpt_tool != 0           ? ViewDrag::Mode::kSculpt
                    : app->brush_mode                 ? ViewDrag::Mode::kBrush
                    : app->cut_tool != 0              ? ViewDrag::Mode::kGizmo
                                                      : ViewDrag::Mode::kOrbit;
+          if (d.mode == ViewDrag::Mode::kSculpt) SculptPress(app, e.x, e.y, e.mods);
           ApplyDrag(app, e.x, e.y);
         } else if (e.action == GLFW_RELEASE && e.code == app->drag.button &&
                    app->drag.mode != ViewDrag::Mode::kNone) {
           ApplyDrag(app, e.x, e.y);
+          if (app->drag.mode == ViewDrag::Mode::kSculpt) SculptRelease(app, e.x, e.y);
           app->drag.mode = ViewDrag::Mode::kNone;
           app->drag.button = -1;
         }
@@ -1453,6 +1714,12 @@ void WriteReport(App* app) {
   r["message"] = app->message;
   r["modified"] = s.Modified();
   r["document"] = s.CurrentDocument().parameters;
+  // The operations as the file writes them (OperationToJson).
+  nlohmann::ordered_json operations = nlohmann::ordered_json::array();
+  for (const StyleOperation& op : s.CurrentDocument().operations) {
+    operations.push_back(OperationToJson(op));
+  }
+  r["document_operations"] = std::move(operations);
   r["operations"] = s.CurrentDocument().operations.size();
   r["history"] = s.HistoryLabels();
   r["history_cursor"] = s.HistoryCursor();
@@ -1492,6 +1759,24 @@ void WriteReport(App* app) {
   r["brush"] = s.brush.size();
   r["export_path"] = app->export_path;
   r["save_path"] = app->save_path;
+  // The sculpting tools' test hooks: the tool, the masters' tips and the head centre on screen
+  // (window coordinates; null when behind the eye), so the input test aims at hair and head.
+  r["sculpt_tool"] = app->sculpt_tool;
+  nlohmann::ordered_json tips = nlohmann::ordered_json::array();
+  if (hair) {
+    const StyledHair& styled = hair->styled;
+    for (size_t i = 0; i < styled.masters.models.size() && i < styled.solutions.size(); ++i) {
+      const Vec3 tip =
+          ComputeGeometry(styled.masters.models[i], styled.solutions[i].curvatures).points.back();
+      const std::optional<ImVec2> q = ViewPoint(app, tip);
+      tips.push_back(q ? nlohmann::ordered_json{q->x, q->y, tip.x(), tip.y(), tip.z()}
+                       : nlohmann::ordered_json(nullptr));
+    }
+    const std::optional<ImVec2> head = ViewPoint(app, HairstyleHead(styled.style).centre);
+    r["head_on_screen"] =
+        head ? nlohmann::ordered_json{head->x, head->y} : nlohmann::ordered_json(nullptr);
+  }
+  r["master_tips_on_screen"] = std::move(tips);
   r["widgets"] = app->widgets;
   std::string text = r.dump(1);
   if (text == app->last_report) return;
@@ -1518,6 +1803,7 @@ void Frame(App* app) {
   ImGui::NewFrame();
   HandleInput(app, events);
   Panel(app);
+  DrawSculptOverlay(app);
   RenderWindow(app);
   Modals(app);
   app->viewer.SetGizmo(app->cut_tool != 0 ? std::optional<CutRegion>(GizmoRegion(app))

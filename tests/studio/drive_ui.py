@@ -7,8 +7,8 @@ the test) and --min-frame-seconds (slow frames: a click, a key tap or a whole dr
 inside one frame, as on a slow machine). Every value is set by mouse or keyboard events.
 
 usage: drive_ui.py STUDIO RINGLET HAIRSTYLE WORKDIR SECTION
-SECTION: sliders (defects 1 and 6), keys (3, 4, 6, 7), export (2) or view (the view that keeps
-up: the opening view, view keys, orbit with a tool on, headlight, preview density, the resizable
+SECTION: sliders (defects 1 and 6), keys (3, 4, 6, 7), export (2), sculpt (the comb and puff
+brushes) or view (the view that keeps up: the opening view, view keys, orbit with a tool on, headlight, preview density, the resizable
 panel). With STUDIO_SHOTS=DIR set, the view section copies its screenshots (F12) there.
 """
 import json
@@ -549,6 +549,92 @@ def view():
     shot("studio_wide_panel")
 
 
+def sculpt():
+    # The sculpting brushes (issue 26's tools): a comb stroke dragged on the hair and a puff
+    # clicked on the head, with mirror symmetry, each one operation of the document; the saved
+    # file replayed by `ringlet style` gives Export's bytes.
+    xdo("key", "3")  # the right side of the head: the hair hangs in view
+    quiet()
+    click(*centre("sculpt.comb"))
+    r = quiet()
+    check(r["sculpt_tool"] == 1, f"comb chosen by its radio button: tool {r['sculpt_tool']}")
+    # A tip in the view, away from the panel and the window's edges, the lowest on screen.
+    tips = [t for t in r["master_tips_on_screen"]
+            if t and PANEL + 80 < t[0] < 1200 and 80 < t[1] < 720]
+    check(len(tips) > 0, f"hair tips in the view: {len(tips)}")
+    if not tips:
+        return
+    tip = max(tips, key=lambda t: t[1])
+    history = len(r["history"])
+    x0, y0 = int(round(tip[0])), int(round(tip[1]))
+    r = drag(1, x0, y0, x0 + 60, y0 - 30)
+    r = wait(lambda r: len(r["history"]) > history, "the comb stroke")
+    settle()
+    r = report()
+    ops = r["document_operations"]
+    check(len(ops) == 1 and "sculpt" in ops[0], f"one sculpt operation recorded: {ops}")
+    if ops and "sculpt" in ops[0]:
+        op = ops[0]["sculpt"]
+        moved = math.dist(op["from"], op["to"])
+        near = math.dist(op["from"], tip[2:5])
+        check(op.get("mirror") is True and abs(op["radius"] - 0.03) < 1e-7,
+              f"the panel's brush: mirror {op.get('mirror')}, radius {op['radius']}")
+        check(near <= 0.03 + 1e-9, f"the stroke starts on the hair under the cursor: "
+              f"{near * 1000:.1f} mm from the tip it was pressed on")
+        check(0.005 < moved < 0.2, f"the stroke's length follows the drag: {moved * 1000:.1f} mm")
+    shot("studio_comb")
+    # Puff: a click on the head (its centre on screen) adds a puff of +15 degrees; Shift-click
+    # flattens (-15).
+    click(*centre("sculpt.puff"))
+    r = quiet()
+    hx, hy = r["head_on_screen"]
+    for modifier, sign in ((None, 1), ("shift", -1)):
+        history = len(report()["history"])
+        xdo("mousemove", int(hx), int(hy))
+        time.sleep(2 * FRAME)
+        if modifier:
+            xdo("keydown", modifier)
+            time.sleep(FRAME)
+        xdo("click", 1)
+        if modifier:
+            time.sleep(FRAME)
+            xdo("keyup", modifier)
+        wait(lambda r: len(r["history"]) > history, "the puff")
+        settle()
+        op = report()["document_operations"][-1]
+        check("puff" in op and abs(op["puff"]["angle"] - sign * math.radians(15)) < 1e-6,
+              f"a {'Shift-' if modifier else ''}click on the head: puff {op}")
+    # A parting line drawn front to back on the side of the head facing the camera becomes
+    # the comb's parting plane, vertical and across the drawn line: one edit of the document.
+    click(*centre("sculpt.parting"))
+    r = quiet()
+    hx, hy = r["head_on_screen"]
+    history = len(r["history"])
+    drag(1, int(hx) - 25, int(hy) - 40, int(hx) + 25, int(hy) - 40)
+    r = wait(lambda r: len(r["history"]) > history, "the parting")
+    settle()
+    parting = field(report(), "comb.parting")
+    check(parting is not None and abs(parting["normal"][2]) < 1e-9 and
+          abs(math.hypot(*parting["normal"]) - 1) < 1e-9,
+          f"the drawn parting: a vertical plane through the line: {parting}")
+    check(report()["history"][-1].startswith("set comb.parting"),
+          f"one history entry: {report()['history'][-1]!r}")
+    shot("studio_parting")
+    # The file replays: `ringlet style` of the saved document writes Export's bytes.
+    path = os.path.join(WORK, "export.hair")
+    type_into("export_path", "export.hair")
+    click(*centre("Export"))
+    wait(lambda r: os.path.exists(path), "export.hair")
+    saved = os.path.join(WORK, "sculpted.json")
+    type_into("save_path", "sculpted.json")
+    click(*centre("Save"))
+    wait(lambda r: os.path.exists(saved) and not r["modified"], "the save")
+    out = os.path.join(WORK, "styled")
+    subprocess.run([RINGLET, "style", saved, "-o", out, "--formats", "hair", "-q"], check=True)
+    same = subprocess.run(["cmp", path, os.path.join(out, "strands.hair")]).returncode == 0
+    check(same, "the combed and puffed hair: Export is `ringlet style`'s strands.hair (cmp)")
+
+
 os.chdir(WORK)
 extra = ["--preview-segments", "1000"] if SECTION == "view" else []
 studio = subprocess.Popen([STUDIO, HAIRSTYLE, "--report", REPORT, "--size", "1280x800",
@@ -559,5 +645,6 @@ print(f"opened and solved in {time.time() - T0:.1f} s: {r['strands']} strands; "
       f"font {r['font_size']} px, panel {PANEL} px")
 xdo("mousemove", 900, 400)  # the pointer over the window: it has the keyboard focus
 time.sleep(2 * FRAME)
-{"sliders": sliders, "keys": keys, "export": export, "view": view}[SECTION]()
+{"sliders": sliders, "keys": keys, "export": export, "view": view,
+ "sculpt": sculpt}[SECTION]()
 sys.exit(finish())
