@@ -15,11 +15,13 @@
 //
 // BODY "-": no body. --method auto|lbfgs|newton|bfgs: the forward solves' method (default: the
 // InverseOptions default, Newton). --dump FILE: every fit's segment count and distances.
+// --against FILE: compare the fits with an earlier --dump of the same strands (another build):
+// how many segment counts differ, and the ratios of the largest and RMS distances.
 // Prints, per phase, wall and process CPU seconds (user + system, all threads) and per-strand
 // counters (forward and naive iterations, unstable, unconverged, fallbacks).
 //
 //   ./build/bench/ringlet_invert_phases_bench /tmp/wavy/strands.hair examples/bodies/head.json
-//       [--step K] [--threads N] [--phases fit,invert,verify,naive]
+//       [--step K] [--threads N] [--phases fit,invert,verify,naive] [--dump F] [--against F]
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -100,12 +102,14 @@ int Main(int argc, char** argv) {
   std::string phases = "fit,invert,verify,naive";
   std::string method;  // empty: InverseOptions' default
   std::string dump;  // per strand: segments, fit max and RMS distance (m), one line each
+  std::string against;  // an earlier dump to compare with
   for (int a = 3; a + 1 < argc; a += 2) {
     if (!std::strcmp(argv[a], "--step")) step = std::max(1, std::atoi(argv[a + 1]));
     if (!std::strcmp(argv[a], "--threads")) threads = std::atoi(argv[a + 1]);
     if (!std::strcmp(argv[a], "--phases")) phases = argv[a + 1];
     if (!std::strcmp(argv[a], "--method")) method = argv[a + 1];
     if (!std::strcmp(argv[a], "--dump")) dump = argv[a + 1];
+    if (!std::strcmp(argv[a], "--against")) against = argv[a + 1];
   }
   const auto has = [&phases](const char* p) { return phases.find(p) != std::string::npos; };
   std::string error;
@@ -152,6 +156,58 @@ int Main(int argc, char** argv) {
       std::fprintf(f, "%d %.17g %.17g\n", fit.NumSegments(), fit.max_distance, fit.rms_distance);
     }
     std::fclose(f);
+  }
+  {
+    // The fits: segment counts, largest and mean RMS distance (units of each strand's length).
+    std::vector<int> histogram(kMaxSegments + 1, 0);
+    double worst = 0.0, rms = 0.0;
+    for (const HelixFit& fit : fits) {
+      ++histogram[static_cast<size_t>(fit.NumSegments())];
+      worst = std::max(worst, fit.max_distance / fit.length);
+      rms += fit.rms_distance / fit.length / static_cast<double>(count);
+    }
+    std::printf("         fits: largest distance %.4g L, mean RMS %.4g L; segments:", worst, rms);
+    for (size_t n = 0; n < histogram.size(); ++n) {
+      if (histogram[n] > 0) std::printf(" %zu x %d", n, histogram[n]);
+    }
+    std::printf("\n");
+  }
+  if (!against.empty()) {
+    FILE* f = std::fopen(against.c_str(), "r");
+    if (!f) {
+      std::fprintf(stderr, "--against %s: cannot open\n", against.c_str());
+      return 1;
+    }
+    int differ = 0, fewer = 0, compared = 0;
+    double max_ratio = 0.0, min_ratio = 1e300, rms_ratio = 0.0;
+    std::vector<double> ratios;
+    for (const HelixFit& fit : fits) {
+      int n = 0;
+      double max_distance = 0.0, rms_distance = 0.0;
+      if (std::fscanf(f, "%d %lf %lf", &n, &max_distance, &rms_distance) != 3) {
+        std::fprintf(stderr, "--against %s: fewer strands than fitted\n", against.c_str());
+        std::fclose(f);
+        return 1;
+      }
+      if (n != fit.NumSegments()) {
+        ++differ;
+        fewer += fit.NumSegments() < n ? 1 : 0;
+        continue;
+      }
+      if (!(max_distance > 0.0 && rms_distance > 0.0)) continue;
+      const double r = fit.max_distance / max_distance;
+      ratios.push_back(r);
+      max_ratio = std::max(max_ratio, r);
+      min_ratio = std::min(min_ratio, r);
+      rms_ratio += fit.rms_distance / rms_distance;
+      ++compared;
+    }
+    std::fclose(f);
+    std::sort(ratios.begin(), ratios.end());
+    std::printf("against %s: %d segment counts differ (%d fewer); same counts: largest distance "
+                "ratio median %.4f, %.3f to %.3f; mean RMS ratio %.4f\n",
+                against.c_str(), differ, fewer, ratios.empty() ? 0.0 : ratios[ratios.size() / 2],
+                min_ratio, max_ratio, compared ? rms_ratio / compared : 0.0);
   }
   long segments = 0;
   std::vector<StrandModel> models(count);

@@ -8,10 +8,14 @@
 
 #include <atomic>
 #include <functional>
+#include <iterator>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ringlet::python {
@@ -109,6 +113,31 @@ py::array OwnedArray(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
   }
   return py::array(py::dtype::of<T>(), std::move(shape), std::move(strides), owned->data(),
                    owner);
+}
+
+/// The immutable object parsed from a document text (relative paths from base_directory): the
+/// one still alive in this process that was made from the same text and directory, else make()
+/// (which may throw ringlet.Error; a failure caches nothing). Objects that are costly to parse
+/// and never change after (a mesh body's distance grid takes seconds; a hairstyle parses its
+/// body) are so shared by every value that holds them, e.g. by a worker unpickling one per task.
+/// The cache holds weak pointers: an object lives as long as its holders. One cache per T.
+template <typename T, typename Make>
+std::shared_ptr<const T> SharedWhileAlive(const std::string& text,
+                                          const std::string& base_directory, Make&& make) {
+  static std::mutex mutex;
+  static std::map<std::pair<std::string, std::string>, std::weak_ptr<const T>> alive;
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto key = std::make_pair(text, base_directory);
+  if (const auto it = alive.find(key); it != alive.end()) {
+    if (auto shared = it->second.lock()) return shared;
+    alive.erase(it);
+  }
+  for (auto it = alive.begin(); it != alive.end();) {  // forget the dead ones
+    it = it->second.expired() ? alive.erase(it) : std::next(it);
+  }
+  std::shared_ptr<const T> made = make();
+  alive[key] = made;
+  return made;
 }
 
 /// The module's parts, one per file.

@@ -7,9 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,28 +26,18 @@ namespace {
 constexpr py::ssize_t kReleaseGilPoints = 1024;
 
 // The body of a document text (relative OBJ paths from base_directory): one still alive in
-// this process parsed from the same text and directory (a mesh body's grid takes seconds to
-// build; bodies are immutable), else build(), which throws ringlet.Error on bad input.
+// this process parsed from the same text and directory (SharedWhileAlive), else build(), which
+// throws ringlet.Error on bad input.
 std::shared_ptr<const BodyFile> CachedBody(
     const std::string& text, const std::string& base_directory,
     const std::function<std::shared_ptr<const Body>()>& build) {
-  static std::mutex mutex;
-  static std::map<std::pair<std::string, std::string>, std::weak_ptr<const BodyFile>> alive;
-  const std::lock_guard<std::mutex> lock(mutex);
-  const auto key = std::make_pair(text, base_directory);
-  if (const auto it = alive.find(key); it != alive.end()) {
-    if (auto shared = it->second.lock()) return shared;
-    alive.erase(it);
-  }
-  for (auto it = alive.begin(); it != alive.end();) {  // forget the dead ones
-    it = it->second.expired() ? alive.erase(it) : std::next(it);
-  }
-  auto file = std::make_shared<BodyFile>();
-  file->body = build();
-  file->document_text = text;
-  file->base_directory = base_directory;
-  alive[key] = file;
-  return file;
+  return SharedWhileAlive<BodyFile>(text, base_directory, [&] {
+    auto file = std::make_shared<BodyFile>();
+    file->body = build();
+    file->document_text = text;
+    file->base_directory = base_directory;
+    return file;
+  });
 }
 
 // Builds the body of a document text; errors are prefixed by `where` when not empty.

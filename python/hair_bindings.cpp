@@ -8,8 +8,6 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <map>
-#include <mutex>
 #include <memory>
 #include <optional>
 #include <string>
@@ -259,31 +257,21 @@ std::shared_ptr<const HairstyleFile> HairstyleFromText(const std::string& text,
                                                        const std::string& base_directory) {
   // Parsing a hairstyle reads its body (3.5 s for the mannequin of examples/hairstyles/wavy.json);
   // a worker unpickling one Groom per task would pay it every time. Hairstyles are immutable,
-  // so the ones still alive in this process are shared, keyed by what they were parsed from.
-  static std::mutex mutex;
-  static std::map<std::pair<std::string, std::string>, std::weak_ptr<const HairstyleFile>> alive;
-  const std::lock_guard<std::mutex> lock(mutex);
-  const auto key = std::make_pair(text, base_directory);
-  if (const auto it = alive.find(key); it != alive.end()) {
-    if (auto shared = it->second.lock()) return shared;
-    alive.erase(it);
-  }
-  for (auto it = alive.begin(); it != alive.end();) {  // forget the dead ones
-    it = it->second.expired() ? alive.erase(it) : std::next(it);
-  }
-  auto file = std::make_shared<HairstyleFile>();
-  nlohmann::json document;
-  std::string error;
-  if (!internal::ParseJsonText(text, &document, &error) ||
-      !ParseHairstyle(document, base_directory, &file->style, &error) ||
-      !ParseStyleOperations(document, &file->operations, &error) ||
-      !ParseRenderMember(document, &file->render, &error)) {
-    throw Error("Hairstyle (unpickling, relative paths from " + base_directory + "): " + error);
-  }
-  file->document_text = text;
-  file->base_directory = base_directory;
-  alive[key] = file;
-  return file;
+  // so the ones still alive in this process are shared (SharedWhileAlive).
+  return SharedWhileAlive<HairstyleFile>(text, base_directory, [&] {
+    auto file = std::make_shared<HairstyleFile>();
+    nlohmann::json document;
+    std::string error;
+    if (!internal::ParseJsonText(text, &document, &error) ||
+        !ParseHairstyle(document, base_directory, &file->style, &error) ||
+        !ParseStyleOperations(document, &file->operations, &error) ||
+        !ParseRenderMember(document, &file->render, &error)) {
+      throw Error("Hairstyle (unpickling, relative paths from " + base_directory + "): " + error);
+    }
+    file->document_text = text;
+    file->base_directory = base_directory;
+    return file;
+  });
 }
 
 void BindHair(py::module_& m) {

@@ -1,6 +1,7 @@
 // Closed-form helical segments against an independent numerical integration of the frame ODE
 // (the paper's eq. 1), and the Taylor branches near zero curvature.
 #include "ringlet/helix.h"
+#include "ringlet/helix_jacobian.h"
 
 #include <gtest/gtest.h>
 
@@ -177,6 +178,38 @@ TEST(HelixChordVjp, MatchesTheGeneralVjpAndTheChord) {
       const Vec3 general = HelixSegmentVjp(omega, u, f, Mat3::Zero(), d, Vec3::Zero());
       const Vec3 special = HelixChordVjp(omega, u, f, d);
       EXPECT_LT((general - special).norm(), 1e-13 * (general.norm() + 1e-30)) << seed << " " << u;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace ringlet
+
+namespace ringlet {
+namespace {
+
+// The chord's full Jacobian against central differences of the chord (an independent
+// evaluation: EvaluateHelixSegment's closed form, no derivative code), in both branches of the
+// G_m (turning angles below and above 2) and near zero curvature; the tangent against the
+// rotation's third column.
+TEST(HelixChordJacobian, MatchesFiniteDifferencesAndTheRotation) {
+  for (const Vec3& omega : {Vec3(40, -20, 15), Vec3(1e-3, 0, 2e-3), Vec3(150, 60, 90),
+                            Vec3(0, 0, 0)}) {
+    for (double u : {1e-3, 0.01, 0.04}) {
+      const HelixFunctions f = EvaluateHelixFunctions(omega.norm() * u);
+      const Mat3 jac = HelixChordJacobian(omega, u, f);
+      for (int j = 0; j < 3; ++j) {
+        const double h = 1e-4;
+        Vec3 plus = omega, minus = omega;
+        plus(j) += h;
+        minus(j) -= h;
+        const Vec3 fd = (HelixChord(plus, u) - HelixChord(minus, u)) / (2 * h);
+        // Central differences: error ~h^2 u^4 |p'''| ~ 1e-8 u^2 relative here.
+        EXPECT_LT((jac.col(j) - fd).norm(), 1e-7 * u * u + 1e-18)
+            << "omega " << omega.transpose() << " u " << u << " column " << j;
+      }
+      const Vec3 tangent = HelixRotation(omega, u).col(2);
+      EXPECT_LT((HelixTangentFromFunctions(omega, u, f) - tangent).norm(), 1e-15);
     }
   }
 }

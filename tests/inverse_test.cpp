@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <memory>
 #include <random>
+#include <set>
 
 #include "reference/greenhill.h"
 #include "ringlet/contact.h"
@@ -711,6 +712,66 @@ TEST(FitPiecewiseHelix, AutomaticSegmentCountMeetsTheTolerance) {
   EXPECT_LT(fitted_angle, edge_angle);
   std::printf("free root: %d segments, root tangent %.3g rad off (first edge %.3g rad)\n",
               free_root.NumSegments(), fitted_angle, edge_angle);
+}
+
+// The automatic count is searched from a prediction (1 segment first, then up or down from the
+// count that its distance predicts, inverse.h): it must be the smallest n of 1, 2, 4, ..., 64
+// whose fit with that count given explicitly meets the tolerance (the reference: every count
+// fitted in turn). Two curves of 64 edges, free root tangent: the parabola z = x^2 / (2a)
+// (a = 0.05 m), whose distance falls faster than the prediction assumes (the search goes down),
+// and two straight edges meeting at a 30-degree corner at point 21, which no G1 curve follows:
+// its distance falls only ~2x per doubling (the search goes up). Tolerances are chosen between
+// the explicit counts' distances (printed), at least 10 % away from each.
+void ExpectSmallestPassingCount(const std::vector<Vec3>& points,
+                                const std::vector<double>& tolerances, const char* name) {
+  double polyline = 0.0;
+  for (size_t j = 1; j < points.size(); ++j) polyline += (points[j] - points[j - 1]).norm();
+  std::string why;
+  std::vector<double> explicit_distance;  // the largest distance with n = 1, 2, 4, ..., 64
+  for (int n = 1; n <= 64; n *= 2) {
+    FitOptions options;
+    options.segments = n;
+    HelixFit fit;
+    ASSERT_TRUE(FitPiecewiseHelix(points, nullptr, options, &fit, &why)) << why;
+    explicit_distance.push_back(fit.max_distance / polyline);
+    std::printf("%s, %d segments: max %.3g L\n", name, n, fit.max_distance / polyline);
+  }
+  std::set<int> counts;
+  for (double tolerance : tolerances) {
+    int expected = 64;
+    for (size_t k = 0; k < explicit_distance.size(); ++k) {
+      // Within 10 % of the tolerance the automatic count's refinement may stop a little earlier
+      // (inverse.h): the comparison would test rounding, not the search.
+      ASSERT_GT(std::abs(explicit_distance[k] / tolerance - 1.0), 0.1) << name << " " << tolerance;
+      if (explicit_distance[k] <= tolerance) {
+        expected = 1 << k;
+        break;
+      }
+    }
+    FitOptions options;
+    options.tolerance = tolerance;
+    HelixFit fit;
+    ASSERT_TRUE(FitPiecewiseHelix(points, nullptr, options, &fit, &why)) << why;
+    EXPECT_EQ(fit.NumSegments(), expected) << name << ", tolerance " << tolerance;
+    EXPECT_LE(fit.max_distance, tolerance * polyline);
+    counts.insert(expected);
+  }
+  EXPECT_GE(counts.size(), 4u) << name;  // the tolerances span several counts
+}
+
+TEST(FitPiecewiseHelix, AutomaticSegmentCountIsTheSmallestPassingCount) {
+  std::vector<Vec3> parabola, corner;
+  const double angle = 30.0 * 3.14159265358979323846 / 180.0;
+  for (int j = 0; j <= 64; ++j) {
+    const double x = 0.2 * j / 64.0;
+    parabola.push_back(Vec3(x, 0.0, x * x / 0.1));
+    const double s = 0.2 * j / 64.0, s0 = 0.2 * 21 / 64.0;
+    corner.push_back(j <= 21 ? Vec3(s, 0.0, 0.0)
+                             : Vec3(s0 + (s - s0) * std::cos(angle), 0.0,
+                                    (s - s0) * std::sin(angle)));
+  }
+  ExpectSmallestPassingCount(parabola, {5e-2, 2e-2, 5e-3, 5e-4, 5e-5, 5e-6, 1e-8}, "parabola");
+  ExpectSmallestPassingCount(corner, {2.5e-2, 1.4e-2, 7e-3, 4e-3, 1.5e-3, 1e-4}, "corner");
 }
 
 // A closed-form error bound on a curve that is no piecewise helix: the parabola z = x^2 / (2a)

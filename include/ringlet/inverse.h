@@ -205,7 +205,8 @@ Mat3 DefaultRootFrame(const Vec3& tangent, const Vec3& axis);
 struct FitOptions {
   /// Segment count n (1 to the number of polyline edges); 0 chooses it: the smallest n of the
   /// sequence 1, 2, 4, ... (capped at the edge count) whose fit has a largest distance of at
-  /// most tolerance.
+  /// most tolerance, searched from the count that the 1-segment fit's distance predicts
+  /// (docs/inverse.md, "Fit of polylines").
   int segments = 0;
   /// Largest allowed distance from a target point to the fitted curve, in units of the
   /// polyline's length (dimensionless, > 0), when segments = 0.

@@ -13,10 +13,14 @@
 #include <tbb/task_arena.h>
 
 #include "ringlet/helix.h"
+#include "ringlet/helix_jacobian.h"
 #include "ringlet/inverse.h"
 
 namespace ringlet {
 namespace {
+
+using Vec4 = Eigen::Matrix<double, 4, 1>;
+using Mat4 = Eigen::Matrix<double, 4, 4>;
 
 bool Fail(std::string* why, const std::string& message) {
   if (why) *why = message;
@@ -34,6 +38,17 @@ constexpr double kStepTolerance = 1e-15;
 // The smallest damping of the global refinement (keeps the step finite where a segment of one
 // edge leaves a direction free).
 constexpr double kMinimumDamping = 1e-12;
+// The automatic segment count's global refinement also stops when a step lowers the cost by less
+// than kDecidedDecrease of it while the fit's largest distance is within the tolerance or more
+// than kFarFactor times it: the slow final descent (a cost floor approached linearly: ~0.3 % per
+// iteration for dozens of iterations on 16-segment fits of 32 float points) no longer changes
+// whether the count is kept. Measured on 1,000 wavy strands of the head (docs/benchmarks.md):
+// the same segment counts, largest distances within 1 % of the full descent for half of the
+// strands (at most 1.44x, all within the tolerance), mean RMS distance 1.01x, refinement
+// iterations 26 -> 12 at 16 segments. Between the tolerance and kFarFactor times it the full
+// descent (kRelativeDecrease) decides.
+constexpr double kDecidedDecrease = 3e-3;
+constexpr double kFarFactor = 2.0;
 // Segments fitted together in the root-to-tip pass (FitWithSegments).
 constexpr int kWindow = 2;
 // The global refinement stops after this many rejected steps in a row (damping raised 4^6 =
@@ -61,30 +76,33 @@ struct SegmentFit {
   int iterations = 0;
 };
 
-// Residuals (3k) and, if jacobian is not null, the exact Jacobian (3k x (k + 3)).
-void SegmentResiduals(const VecX& y, const std::vector<Vec3>& w, VecX* residual, MatX* jacobian) {
+// The residuals p(Omega, u_j) - W_j (start frame) and, if jacobian is set, the blocks of the
+// exact Jacobian: d/dOmega = dp/dOmega(u_j) (HelixChordJacobian), d/dl = sigma_j t_j and, for an
+// inner point, d/dsigma_j = l t_j (t_j = R(u_j) e3 the tangent at u_j, sigma_k = 1 at the
+// segment's end). Returns the cost, the sum of squared residuals.
+struct SegmentPoint {
+  Vec3 residual;
+  Mat3 d_omega;
+  Vec3 tangent;
+};
+double SegmentResiduals(const Vec3& omega, double l, const std::vector<double>& sigma,
+                        const std::vector<Vec3>& w, bool jacobian,
+                        std::vector<SegmentPoint>* out) {
   const int k = static_cast<int>(w.size());
-  const Vec3 omega = y.head<3>();
-  const double l = y(3);
-  residual->resize(3 * k);
-  if (jacobian) jacobian->setZero(3 * k, k + 3);
+  out->resize(static_cast<size_t>(k));
+  const double norm = omega.norm();
+  double cost = 0.0;
   for (int j = 0; j < k; ++j) {
-    const bool end = j == k - 1;
-    const double sigma = end ? 1.0 : y(4 + j);
-    const double u = sigma * l;
-    const HelixFunctions functions = EvaluateHelixFunctions(omega.norm() * u);
-    residual->segment<3>(3 * j) = HelixChordFromFunctions(omega, u, functions) - w[j];
+    SegmentPoint& pt = (*out)[static_cast<size_t>(j)];
+    const double u = (j == k - 1 ? 1.0 : sigma[static_cast<size_t>(j)]) * l;
+    const HelixFunctions functions = EvaluateHelixFunctions(norm * u);
+    pt.residual = HelixChordFromFunctions(omega, u, functions) - w[static_cast<size_t>(j)];
+    cost += pt.residual.squaredNorm();
     if (!jacobian) continue;
-    // d p / d Omega, row by row: the vector-Jacobian product with the unit vectors.
-    for (int r = 0; r < 3; ++r) {
-      jacobian->block<1, 3>(3 * j + r, 0) =
-          HelixChordVjp(omega, u, functions, Vec3::Unit(r)).transpose();
-    }
-    // d p / d u = R(u) e3, the tangent at u in the start frame.
-    const Vec3 tangent = HelixRotation(omega, u).col(2);
-    jacobian->block<3, 1>(3 * j, 3) = sigma * tangent;
-    if (!end) jacobian->block<3, 1>(3 * j, 4 + j) = l * tangent;
+    pt.d_omega = HelixChordJacobian(omega, u, functions);
+    pt.tangent = HelixTangentFromFunctions(omega, u, functions);
   }
+  return cost;
 }
 
 // The circular arc that leaves along e3 and reaches the chord c (start frame): turning angle
@@ -105,58 +123,102 @@ void ArcGuess(const Vec3& c, Vec3* omega, double* length) {
   *length = 2.0 * a / kappa;
 }
 
+// Levenberg-Marquardt on y = (Omega, l, sigma_1 .. sigma_(k-1)). The normal matrix J^T J is an
+// arrow: a dense 4 x 4 block for (Omega, l), a diagonal one for the sigmas (sigma_j enters
+// residual j only, with the column l t_j) and their 4 x 1 couplings c_j = [D_j, sigma_j t_j]^T
+// l t_j. The damped system (Marquardt: the diagonal times 1 + damping) is solved by eliminating
+// the sigmas (Schur complement S = M_44 - sum c_j c_j^T / m_j), O(k) instead of the O(k^3) dense
+// factorization: the same step, to rounding.
 SegmentFit FitSegment(const std::vector<Vec3>& w, const std::vector<double>& edge_fraction,
                       int max_iterations, double relative_decrease) {
   const int k = static_cast<int>(w.size());
-  VecX y(k + 3);
+  const int inner = k - 1;
   Vec3 omega;
   double length;
   ArcGuess(w.back(), &omega, &length);
-  y.head<3>() = omega;
-  y(3) = length;
-  for (int j = 0; j + 1 < k; ++j) y(4 + j) = edge_fraction[static_cast<size_t>(j)];
-
-  VecX residual, trial_residual;
-  MatX jacobian;
-  SegmentResiduals(y, w, &residual, &jacobian);
-  double cost = residual.squaredNorm();
+  std::vector<double> sigma(edge_fraction.begin(), edge_fraction.begin() + inner);
+  std::vector<double> trial_sigma(static_cast<size_t>(inner));
+  std::vector<SegmentPoint> points, trial_points;
+  double cost = SegmentResiduals(omega, length, sigma, w, true, &points);
+  // Per inner point: the coupling c_j, the diagonal d_j and the gradient entry.
+  std::vector<Vec4> coupling(static_cast<size_t>(inner));
+  std::vector<double> diagonal(static_cast<size_t>(inner)), gradient(static_cast<size_t>(inner));
+  std::vector<double> step_sigma(static_cast<size_t>(inner));
   double damping = -1.0;
   SegmentFit fit;
   for (int it = 0; it < max_iterations && cost > 0.0; ++it) {
     ++fit.iterations;
-    const MatX a = jacobian.transpose().lazyProduct(jacobian);  // small: no GEMM blocking
-    const VecX g = jacobian.transpose() * residual;
+    Mat4 a = Mat4::Zero();
+    Vec4 g = Vec4::Zero();
+    for (int j = 0; j < k; ++j) {
+      const SegmentPoint& pt = points[static_cast<size_t>(j)];
+      const double s = j == k - 1 ? 1.0 : sigma[static_cast<size_t>(j)];
+      Eigen::Matrix<double, 3, 4> bj;
+      bj.leftCols<3>() = pt.d_omega;
+      bj.col(3) = s * pt.tangent;
+      a.noalias() += bj.transpose().lazyProduct(bj);
+      g.noalias() += bj.transpose() * pt.residual;
+      if (j < inner) {
+        const Vec3 column = length * pt.tangent;
+        coupling[static_cast<size_t>(j)] = bj.transpose() * column;
+        diagonal[static_cast<size_t>(j)] = column.squaredNorm();
+        gradient[static_cast<size_t>(j)] = column.dot(pt.residual);
+      }
+    }
     if (damping < 0.0) damping = kInitialDamping;
     bool improved = false;
     bool tiny = false;
     // Raise the damping until a step lowers the cost (at most ~30 times: 4^30 ~ 1e18).
     for (int attempt = 0; attempt < 30; ++attempt) {
-      MatX m = a;
-      for (int d = 0; d < m.rows(); ++d) {
-        m(d, d) += damping * std::max(a(d, d), 1e-30);
+      Mat4 schur = a;
+      for (int d = 0; d < 4; ++d) schur(d, d) += damping * std::max(a(d, d), 1e-30);
+      Vec4 rhs = g;
+      for (int j = 0; j < inner; ++j) {
+        const double m = diagonal[static_cast<size_t>(j)] +
+                         damping * std::max(diagonal[static_cast<size_t>(j)], 1e-30);
+        const Vec4& c = coupling[static_cast<size_t>(j)];
+        schur.noalias() -= (c / m) * c.transpose();
+        rhs -= c * (gradient[static_cast<size_t>(j)] / m);
       }
-      const VecX step = -m.ldlt().solve(g);
-      const VecX trial = y + step;
+      const Vec4 step = -schur.ldlt().solve(rhs);
+      double sigma_step = 0.0;
+      for (int j = 0; j < inner; ++j) {
+        const double m = diagonal[static_cast<size_t>(j)] +
+                         damping * std::max(diagonal[static_cast<size_t>(j)], 1e-30);
+        const double ds =
+            -(gradient[static_cast<size_t>(j)] + coupling[static_cast<size_t>(j)].dot(step)) / m;
+        step_sigma[static_cast<size_t>(j)] = ds;
+        sigma_step = std::max(sigma_step, std::abs(ds));
+      }
       // Scale of each unknown for the stopping test.
-      const double l = std::max(y(3), 1e-300);
+      const double l = std::max(length, 1e-300);
       double relative = step.head<3>().cwiseAbs().maxCoeff() * l;
       relative = std::max(relative, std::abs(step(3)) / l);
-      if (k > 1) relative = std::max(relative, step.tail(k - 1).cwiseAbs().maxCoeff());
+      relative = std::max(relative, sigma_step);
       if (!(relative > kStepTolerance)) {
         tiny = true;
         break;
       }
-      if (!(trial(3) > 0.0) || !trial.allFinite()) {
+      const Vec3 trial_omega = omega + step.head<3>();
+      const double trial_length = length + step(3);
+      bool finite = trial_omega.allFinite() && std::isfinite(trial_length);
+      for (int j = 0; j < inner; ++j) {
+        trial_sigma[static_cast<size_t>(j)] =
+            sigma[static_cast<size_t>(j)] + step_sigma[static_cast<size_t>(j)];
+        finite = finite && std::isfinite(trial_sigma[static_cast<size_t>(j)]);
+      }
+      if (!(trial_length > 0.0) || !finite) {
         damping *= kDampingUp;
         continue;
       }
-      SegmentResiduals(trial, w, &trial_residual, nullptr);
-      const double trial_cost = trial_residual.squaredNorm();
+      const double trial_cost =
+          SegmentResiduals(trial_omega, trial_length, trial_sigma, w, false, &trial_points);
       if (trial_cost < cost) {
         if (cost - trial_cost <= relative_decrease * cost) tiny = true;
-        y = trial;
-        SegmentResiduals(y, w, &residual, &jacobian);
-        cost = residual.squaredNorm();
+        omega = trial_omega;
+        length = trial_length;
+        sigma.swap(trial_sigma);
+        cost = SegmentResiduals(omega, length, sigma, w, true, &points);
         damping *= kDampingDown;
         improved = true;
         break;
@@ -165,10 +227,12 @@ SegmentFit FitSegment(const std::vector<Vec3>& w, const std::vector<double>& edg
     }
     if (tiny || !improved) break;
   }
-  fit.omega = y.head<3>();
-  fit.length = y(3);
+  fit.omega = omega;
+  fit.length = length;
   fit.u.resize(static_cast<size_t>(k));
-  for (int j = 0; j < k; ++j) fit.u[static_cast<size_t>(j)] = (j == k - 1 ? 1.0 : y(4 + j)) * y(3);
+  for (int j = 0; j < k; ++j) {
+    fit.u[static_cast<size_t>(j)] = (j == k - 1 ? 1.0 : sigma[static_cast<size_t>(j)]) * length;
+  }
   return fit;
 }
 
@@ -190,10 +254,8 @@ SegmentFit FitSegment(const std::vector<Vec3>& w, const std::vector<double>& edg
 // damped Gauss-Newton step then minimizes a sum of stage costs of (x_i, u_i) under the linear
 // chain: a backward Riccati sweep (6x6 cost-to-go matrices) and a forward sweep give the exact
 // step in O(n), instead of the O(n^3) dense normal equations.
-using Vec4 = Eigen::Matrix<double, 4, 1>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Vec11 = Eigen::Matrix<double, 11, 1>;
-using Mat4 = Eigen::Matrix<double, 4, 4>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Mat11 = Eigen::Matrix<double, 11, 11>;
 using Mat64 = Eigen::Matrix<double, 6, 4>;
@@ -217,9 +279,10 @@ std::vector<int> Boundaries(int edges, int n) {
 }
 
 // Sum of squared distances between the target points and the chain's points (m^2); the
-// per-point distances in *distances if given.
+// per-point distances in *distances and the largest squared one in *max_squared if given.
 double ChainCost(const std::vector<Vec3>& points, const std::vector<int>& b, const Chain& c,
-                 std::vector<double>* distances) {
+                 std::vector<double>* distances, double* max_squared = nullptr) {
+  double worst = 0.0;
   const int n = static_cast<int>(c.omega.size());
   Mat3 q = c.root;
   Vec3 r = points[0];
@@ -228,10 +291,13 @@ double ChainCost(const std::vector<Vec3>& points, const std::vector<int>& b, con
   for (int i = 0; i < n; ++i) {
     const Vec3& omega = c.omega[static_cast<size_t>(i)];
     const double l = c.length[static_cast<size_t>(i)];
+    const double norm = omega.norm();
     for (int p = b[static_cast<size_t>(i)] + 1; p < b[static_cast<size_t>(i) + 1]; ++p) {
-      const double d2 =
-          (r + q * HelixChord(omega, c.sigma[static_cast<size_t>(p)] * l) - points[p]).squaredNorm();
+      const double u = c.sigma[static_cast<size_t>(p)] * l;
+      const Vec3 chord = HelixChordFromFunctions(omega, u, EvaluateHelixFunctions(norm * u));
+      const double d2 = (r + q * chord - points[p]).squaredNorm();
       cost += d2;
+      worst = std::max(worst, d2);
       if (distances) (*distances)[static_cast<size_t>(p)] = std::sqrt(d2);
     }
     const HelixSegment seg = EvaluateHelixSegment(omega, l);
@@ -240,8 +306,10 @@ double ChainCost(const std::vector<Vec3>& points, const std::vector<int>& b, con
     const int end = b[static_cast<size_t>(i) + 1];
     const double d2 = (r - points[static_cast<size_t>(end)]).squaredNorm();
     cost += d2;
+    worst = std::max(worst, d2);
     if (distances) (*distances)[static_cast<size_t>(end)] = std::sqrt(d2);
   }
+  if (max_squared) *max_squared = worst;
   return cost;
 }
 
@@ -286,9 +354,8 @@ void Linearize(const std::vector<Vec3>& points, const std::vector<int>& b, const
     auto row = [&](double u, double sigma, const Vec3& target, Vec3* tangent) {
       const HelixFunctions h = EvaluateHelixFunctions(omega.norm() * u);
       const Vec3 p = HelixChordFromFunctions(omega, u, h);
-      Mat3 dp;  // dp/dOmega (start frame), row by row
-      for (int k = 0; k < 3; ++k) dp.row(k) = HelixChordVjp(omega, u, h, Vec3::Unit(k)).transpose();
-      *tangent = q * HelixRotation(omega, u).col(2);
+      const Mat3 dp = HelixChordJacobian(omega, u, h);  // dp/dOmega (start frame)
+      *tangent = q * HelixTangentFromFunctions(omega, u, h);
       Eigen::Matrix<double, 3, 11> j;
       j.block<3, 3>(0, 0).setIdentity();
       j.block<3, 3>(0, 3) = -Hat(q * p);
@@ -308,10 +375,7 @@ void Linearize(const std::vector<Vec3>& points, const std::vector<int>& b, const
     // The chain: B_i.
     const HelixSegment seg = EvaluateHelixSegment(omega, l);
     const Mat3 q_end = q * seg.rotation;
-    Mat3 dp_end;
-    for (int k = 0; k < 3; ++k) {
-      dp_end.row(k) = HelixChordVjp(omega, l, seg.functions, Vec3::Unit(k)).transpose();
-    }
+    const Mat3 dp_end = HelixChordJacobian(omega, l, seg.functions);
     const Mat3 w = Hat(omega);
     const Mat3 jr = l * Mat3::Identity() - (l * l * seg.functions.g[2]) * w +
                     (l * l * l * seg.functions.g[3]) * w * w;
@@ -332,10 +396,52 @@ Vec6 ApplyA(const Vec3& c, const Vec6& x) {
   return y;
 }
 
+// The Riccati gains: gain = -huu^(-1) hux, offset = -huu^(-1) hu. huu is symmetric positive
+// definite (a sum of Gauss-Newton terms and the cost-to-go, Marquardt-damped): Cholesky
+// huu = L L^T written out for 4 x 4 and the 7 right-hand sides substituted in place (Eigen's
+// fixed-size LDL^T with pivoting and its solves were 13 % of the fit); a pivot that rounding
+// leaves non-positive falls back to that LDL^T.
+void SolveGains(const Mat4& huu, const Mat46& hux, const Vec4& hu, Mat46* gain, Vec4* offset) {
+  double l[4][4] = {};
+  for (int j = 0; j < 4; ++j) {
+    double d = huu(j, j);
+    for (int k = 0; k < j; ++k) d -= l[j][k] * l[j][k];
+    if (!(d > 0.0)) {
+      const Eigen::LDLT<Mat4> ldlt(huu);
+      for (int c = 0; c < 6; ++c) gain->col(c) = -ldlt.solve(Vec4(hux.col(c)));
+      *offset = -ldlt.solve(hu);
+      return;
+    }
+    l[j][j] = std::sqrt(d);
+    for (int i = j + 1; i < 4; ++i) {
+      double v = huu(i, j);
+      for (int k = 0; k < j; ++k) v -= l[i][k] * l[j][k];
+      l[i][j] = v / l[j][j];
+    }
+  }
+  Eigen::Matrix<double, 4, 7> x;
+  x.leftCols<6>() = hux;
+  x.col(6) = hu;
+  for (int c = 0; c < 7; ++c) {
+    for (int i = 0; i < 4; ++i) {  // L y = b
+      double v = x(i, c);
+      for (int k = 0; k < i; ++k) v -= l[i][k] * x(k, c);
+      x(i, c) = v / l[i][i];
+    }
+    for (int i = 3; i >= 0; --i) {  // L^T z = y
+      double v = x(i, c);
+      for (int k = i + 1; k < 4; ++k) v -= l[k][i] * x(k, c);
+      x(i, c) = v / l[i][i];
+    }
+  }
+  *gain = -x.leftCols<6>();
+  *offset = -x.col(6);
+}
+
 // One damped Gauss-Newton step (mu: Marquardt's damping, relative to the diagonal). Returns the
-// trial chain; *step_size gets the largest relative change.
-Chain Step(const Chain& c, const std::vector<int>& b, std::vector<Stage>* stages, bool free_root,
-           double mu, double* step_size) {
+// trial chain in *trial (its vectors reused); *step_size gets the largest relative change.
+void Step(const Chain& c, const std::vector<int>& b, std::vector<Stage>* stages, bool free_root,
+          double mu, Chain* trial_out, double* step_size) {
   const int n = static_cast<int>(c.omega.size());
   const double weight = 1.0 / (1.0 + mu);
   Mat6 pm = Mat6::Zero();
@@ -352,17 +458,17 @@ Chain Step(const Chain& c, const std::vector<int>& b, std::vector<Stage>* stages
     const Vec6 hx = lq.block<6, 1>(0, 10) + a.transpose() * qv;
     const Vec4 hu = lq.block<4, 1>(6, 10) + s.b.transpose() * qv;
     for (int d = 0; d < 4; ++d) huu(d, d) += mu * std::max(huu(d, d), 1e-300);
-    const Eigen::LDLT<Mat4> ldlt(huu);
-    // Column by column: Eigen unrolls the fixed-size vector solves, while a matrix right-hand
-    // side goes through its blocked triangular solver (5 % of the fit's instructions).
-    for (int k = 0; k < 6; ++k) s.gain.col(k) = -ldlt.solve(Vec4(hux.col(k)));
-    s.offset = -ldlt.solve(hu);
+    SolveGains(huu, hux, hu, &s.gain, &s.offset);
     pm = hxx + hux.transpose() * s.gain;
     pm = 0.5 * (pm + pm.transpose()).eval();
     qv = hx + hux.transpose() * s.offset;
   }
   Vec6 x = Vec6::Zero();
-  Chain trial = c;
+  Chain& trial = *trial_out;
+  trial.root = c.root;
+  trial.omega.assign(c.omega.begin(), c.omega.end());
+  trial.length.assign(c.length.begin(), c.length.end());
+  trial.sigma.assign(c.sigma.begin(), c.sigma.end());
   double size = 0.0;
   if (free_root) {
     // x_0 = S z: the root tilts about n1 and n2 (a turn about t is a gauge: it turns every
@@ -400,13 +506,16 @@ Chain Step(const Chain& c, const std::vector<int>& b, std::vector<Stage>* stages
     x = ApplyA(s.chord, x) + s.b * u;
   }
   *step_size = size;
-  return trial;
 }
 
-// Levenberg-Marquardt on the whole chain from c; returns the iterations made.
+// Levenberg-Marquardt on the whole chain from c; returns the iterations made. With accept > 0
+// (the largest allowed distance, m, of the automatic segment count), it also stops once a step
+// lowers the cost by less than kDecidedDecrease of it and the largest distance is decided: within
+// accept (the fit is kept) or beyond kFarFactor accept (the count is rejected).
 int RefineChain(const std::vector<Vec3>& points, const std::vector<int>& b, bool free_root,
-                int max_iterations, double relative_decrease, Chain* c) {
+                int max_iterations, double relative_decrease, Chain* c, double accept = 0.0) {
   std::vector<Stage> stages;
+  Chain trial;
   double cost = ChainCost(points, b, *c, nullptr);
   double mu = kInitialDamping;
   int iterations = 0;
@@ -420,23 +529,28 @@ int RefineChain(const std::vector<Vec3>& points, const std::vector<int>& b, bool
     bool improved = false, tiny = false;
     for (int attempt = 0; attempt < kMaxAttempts; ++attempt) {
       double size = 0.0;
-      const Chain trial = Step(*c, b, &stages, free_root, mu, &size);
+      Step(*c, b, &stages, free_root, mu, &trial, &size);
       if (!(size > kStepTolerance)) {
         tiny = true;
         break;
       }
       bool valid = std::isfinite(size);
       for (double l : trial.length) valid = valid && l > 0.0;
-      const double trial_cost = valid ? ChainCost(points, b, trial, nullptr) : 0.0;
+      double worst = 0.0;  // the largest squared distance (m^2)
+      const double trial_cost = valid ? ChainCost(points, b, trial, nullptr, &worst) : 0.0;
       if (valid && trial_cost < cost) {
         const double decrease = cost - trial_cost;
-        *c = trial;
+        std::swap(*c, trial);
         cost = trial_cost;
         mu = std::max(mu * kDampingDown, kMinimumDamping);
         improved = true;
         // Converged when a step no longer changes the cost (relative): the noise floor of a
         // polyline that is no piecewise helix, or rounding.
         if (decrease <= relative_decrease * (cost + decrease)) tiny = true;
+        if (accept > 0.0 && decrease <= kDecidedDecrease * (cost + decrease) &&
+            (worst <= accept * accept || worst > kFarFactor * kFarFactor * accept * accept)) {
+          tiny = true;
+        }
         break;
       }
       mu *= kDampingUp;
@@ -487,9 +601,10 @@ int GreedySegment(const std::vector<Vec3>& points, const std::vector<int>& b, in
 }
 
 // The fit with n segments (1 <= n <= edges), root to tip with a look-ahead window, then the
-// global refinement (the root tangent free when no root frame was given).
+// global refinement (the root tangent free when no root frame was given; accept as in
+// RefineChain, 0 for a given segment count).
 void FitWithSegments(const std::vector<Vec3>& points, const Mat3& root_frame, bool free_root,
-                     int n, const FitOptions& options, HelixFit* fit) {
+                     int n, const FitOptions& options, HelixFit* fit, double accept) {
   const int edges = static_cast<int>(points.size()) - 1;
   const std::vector<int> b = Boundaries(edges, n);
   Chain chain;
@@ -558,7 +673,7 @@ void FitWithSegments(const std::vector<Vec3>& points, const Mat3& root_frame, bo
   }
   if (options.refine_iterations > 0) {
     fit->iterations += RefineChain(points, b, free_root, options.refine_iterations,
-                                   kRelativeDecrease, &chain);
+                                   kRelativeDecrease, &chain, accept);
   }
   if (free_root) {
     // Back to the n1 rule for the refined tangent: F = Q0 Rz with Rz a turn about e3; the same
@@ -660,13 +775,52 @@ bool FitPiecewiseHelix(const std::vector<Vec3>& points, const Mat3* root_frame,
   const bool free_root = root_frame == nullptr;
   const int edges = static_cast<int>(points.size()) - 1;
   if (options.segments > 0) {
-    FitWithSegments(points, frame, free_root, std::min(options.segments, edges), options, fit);
+    FitWithSegments(points, frame, free_root, std::min(options.segments, edges), options, fit,
+                    0.0);
     return true;
   }
   // The smallest n of 1, 2, 4, ... (capped at the edge count) meeting the tolerance.
+  const double allowed = options.tolerance * polyline;
+  std::vector<int> levels;
   for (int n = 1;; n = std::min(2 * n, edges)) {
-    FitWithSegments(points, frame, free_root, n, options, fit);
-    if (fit->max_distance <= options.tolerance * polyline || n == edges) break;
+    levels.push_back(n);
+    if (n == edges) break;
+  }
+  const int last = static_cast<int>(levels.size()) - 1;
+  auto fit_level = [&](int index, HelixFit* out) {
+    FitWithSegments(points, frame, free_root, levels[static_cast<size_t>(index)], options, out,
+                    allowed);
+    return out->max_distance <= allowed;
+  };
+  // One segment first. Its largest distance e1 predicts the count: a piecewise helix's distance
+  // falls by ~4x or more per doubling of n on smooth curves (the segment length squared, or
+  // faster), so the search starts at the first n of the sequence with n^2 >= e1 / allowed and
+  // goes down while the count still passes, or up until one does. The partitions are nested
+  // (b_i = floor(i m / n): every break of n is one of 2 n), so a count that fails has every
+  // smaller count failing too for the best fits, and the search finds the same smallest n as
+  // trying 1, 2, 4, ... in turn without fitting the rejected small counts: a 16-segment strand
+  // of the head fits 1, 8 and 16 instead of 1, 2, 4, 8 and 16. The fits are local minima: 3 of
+  // the head's 50,000 strands get a larger count than in turn (a count failed while a smaller
+  // one passed), all 1,000 of a subset the same (docs/benchmarks.md).
+  if (fit_level(0, fit) || last == 0) return true;
+  const double ratio = fit->max_distance / allowed;
+  int start = 1;
+  while (start < last && static_cast<double>(levels[static_cast<size_t>(start)]) *
+                                 static_cast<double>(levels[static_cast<size_t>(start)]) <
+                             ratio) {
+    ++start;
+  }
+  HelixFit trial;
+  if (fit_level(start, &trial)) {
+    *fit = std::move(trial);
+    for (int index = start - 1; index >= 1; --index) {
+      if (!fit_level(index, &trial)) break;
+      *fit = std::move(trial);
+    }
+    return true;
+  }
+  for (int index = start + 1;; ++index) {
+    if (fit_level(index, fit) || index == last) break;
   }
   return true;
 }

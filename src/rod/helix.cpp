@@ -1,6 +1,7 @@
 // Closed-form helical segments and their exact reverse-mode derivative (../shared/DESIGN.md,
 // "A helical segment in closed form"; the paper's eq. 1 with constant Omega on a segment).
 #include "ringlet/helix.h"
+#include "ringlet/helix_jacobian.h"
 
 #include <cmath>
 
@@ -136,6 +137,34 @@ Vec3 HelixChordVjp(const Vec3& omega, double u, const HelixFunctions& h, const V
   x.col(2) = d;
   const Mat3 w = Hat(omega);
   return a1 * e3.cross(d) - a2 * Vee(x * w + w * x) + (da1 * d.dot(we3) + da2 * d.dot(w2e3)) * omega;
+}
+
+Mat3 HelixChordJacobian(const Vec3& omega, double u, const HelixFunctions& h) {
+  const double u2 = u * u, u3 = u2 * u, u4 = u3 * u, u5 = u4 * u;
+  const double a1 = u2 * h.g[2];
+  const double a2 = u3 * h.g[3];
+  const double da1 = u4 * (2.0 * h.g[4] - h.g[3]);
+  const double da2 = u5 * (3.0 * h.g[5] - h.g[4]);
+  const Vec3 e3(0.0, 0.0, 1.0);
+  const Vec3 we3 = omega.cross(e3);
+  const Vec3 w2e3 = omega.cross(we3);
+  Mat3 d = (da1 * we3 + da2 * w2e3) * omega.transpose();
+  // -a1 [e3]x: [e3]x has (0,1) = -1 and (1,0) = 1.
+  d(0, 1) += a1;
+  d(1, 0) -= a1;
+  // a2 (Omega_3 I + Omega e3^T - 2 e3 Omega^T).
+  for (int k = 0; k < 3; ++k) {
+    d(k, k) += a2 * omega(2);
+    d(k, 2) += a2 * omega(k);
+    d(2, k) -= 2.0 * a2 * omega(k);
+  }
+  return d;
+}
+
+Vec3 HelixTangentFromFunctions(const Vec3& omega, double u, const HelixFunctions& h) {
+  const Vec3 e3(0.0, 0.0, 1.0);
+  const Vec3 we3 = omega.cross(e3);
+  return e3 + (u * h.g[1]) * we3 + (u * u * h.g[2]) * omega.cross(we3);
 }
 
 Vec3 HelixChord(const Vec3& omega, double u) { return EvaluateHelixSegment(omega, u).chord; }
