@@ -172,12 +172,19 @@ if [ "$(lines "$work/a/manifest-all.jsonl")" -eq 12 ]; then ok; else fail "rerun
 # --- SIGTERM in the middle, then a rerun: the undisturbed bytes ----------------------------------
 ("$RINGLET" batch "$SMALL" -o "$work/d" --threads 1 -q >/dev/null 2>&1) &
 pid=$!
-for _ in $(seq 1 600); do
-  [ "$(items_done "$work/d")" -ge 3 ] && break
-  sleep 0.05
+for _ in $(seq 1 3000); do
+  [ "$(items_done "$work/d")" -ge 1 ] && break
+  sleep 0.01
 done
-# The subshell runs ringlet as its only command (bash execs it): pid is ringlet's.
-kill -TERM "$pid" 2>/dev/null
+# The subshell runs ringlet as its only command (bash execs it): pid is ringlet's. It is frozen
+# (SIGSTOP) the moment an item is done, so that SIGTERM lands mid-run whatever the machine's load
+# (on a busy machine the 12 items of 0.1 s could otherwise all finish between two polls), then
+# let go with SIGCONT: the pending SIGTERM is handled at once.
+if [[ "$pid" =~ ^[1-9][0-9]*$ ]] && [ "$pid" -gt 1 ]; then
+  kill -STOP "$pid" 2>/dev/null
+  kill -TERM "$pid" 2>/dev/null
+  kill -CONT "$pid" 2>/dev/null
+fi
 wait "$pid"
 status=$?
 if [ "$status" -eq 143 ]; then ok; else fail "SIGTERM: exit status $status, expected 143 (128 + SIGTERM)"; fi
