@@ -2,6 +2,7 @@
 // "A helical segment in closed form"; the paper's eq. 1 with constant Omega on a segment).
 #include "ringlet/helix.h"
 #include "ringlet/helix_jacobian.h"
+#include "rod/helix_hessian.h"
 
 #include <cmath>
 
@@ -140,25 +141,15 @@ Vec3 HelixChordVjp(const Vec3& omega, double u, const HelixFunctions& h, const V
 }
 
 Mat3 HelixChordJacobian(const Vec3& omega, double u, const HelixFunctions& h) {
+  // The chord's derivative of the exact Hessian's machinery (helix_hessian.h, m = 2: the chord
+  // u e3 + u^2 G2 W e3 + u^3 G3 W^2 e3), shared with strand_hessian.cpp and the dynamics.
+  // Its coefficients from the G_m here (HelixFunctions has G_1..G_6: CoefficientsOf would read
+  // G_7 for c2, which ChordDerivative does not use): a1 = u^2 G2, a2 = u^3 G3, b1 = u^4 (2 G4 - G3),
+  // b2 = u^5 (3 G5 - G4).
   const double u2 = u * u, u3 = u2 * u, u4 = u3 * u, u5 = u4 * u;
-  const double a1 = u2 * h.g[2];
-  const double a2 = u3 * h.g[3];
-  const double da1 = u4 * (2.0 * h.g[4] - h.g[3]);
-  const double da2 = u5 * (3.0 * h.g[5] - h.g[4]);
-  const Vec3 e3(0.0, 0.0, 1.0);
-  const Vec3 we3 = omega.cross(e3);
-  const Vec3 w2e3 = omega.cross(we3);
-  Mat3 d = (da1 * we3 + da2 * w2e3) * omega.transpose();
-  // -a1 [e3]x: [e3]x has (0,1) = -1 and (1,0) = 1.
-  d(0, 1) += a1;
-  d(1, 0) -= a1;
-  // a2 (Omega_3 I + Omega e3^T - 2 e3 Omega^T).
-  for (int k = 0; k < 3; ++k) {
-    d(k, k) += a2 * omega(2);
-    d(k, 2) += a2 * omega(k);
-    d(2, k) -= 2.0 * a2 * omega(k);
-  }
-  return d;
+  const helix_hessian::Coefficients c{u2 * h.g[2], u3 * h.g[3], u4 * (2.0 * h.g[4] - h.g[3]),
+                                      u5 * (3.0 * h.g[5] - h.g[4]), 0.0, 0.0};
+  return helix_hessian::ChordDerivative(omega, c);
 }
 
 Vec3 HelixTangentFromFunctions(const Vec3& omega, double u, const HelixFunctions& h) {
