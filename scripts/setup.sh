@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs ringlet's build and test dependencies from Debian 12 packages (idempotent).
-# Every dependency is found by CMake's find_package; nothing is downloaded outside apt.
+# Every dependency is found by CMake's find_package; nothing is downloaded outside apt, except
+# one npm package for a test: TinyUSDZ, an independent USD reader (tests/usd/, pinned by its
+# package-lock.json), installed into tests/usd/node_modules.
 set -euo pipefail
 
 packages=(
@@ -23,15 +25,26 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# Node.js and npm for tests/usd (Debian's nodejs + npm, unless a Node.js with npm is there).
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  missing+=(nodejs npm)
+fi
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#packages[@]} packages already installed"
-  exit 0
+else
+  echo "setup: installing ${missing[*]}"
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-echo "setup: installing ${missing[*]}"
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+usd="$(cd "$(dirname "$0")/.." && pwd)/tests/usd"
+if [ -f "$usd/node_modules/tinyusdz/tinyusdz.wasm" ]; then
+  echo "setup: TinyUSDZ already installed in tests/usd/node_modules"
+else
+  echo "setup: installing TinyUSDZ (npm) into tests/usd/node_modules"
+  (cd "$usd" && npm ci --no-audit --no-fund --loglevel=error)
+fi
