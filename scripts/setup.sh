@@ -46,5 +46,7 @@ if [ -f "$usd/node_modules/tinyusdz/tinyusdz.wasm" ]; then
   echo "setup: TinyUSDZ already installed in tests/usd/node_modules"
 else
   echo "setup: installing TinyUSDZ (npm) into tests/usd/node_modules"
-  (cd "$usd" && npm ci --no-audit --no-fund --loglevel=error)
+  # Not fatal: without it only tests/usd is skipped (ctest says so), the rest builds and runs.
+  (cd "$usd" && npm ci --no-audit --no-fund --loglevel=error) ||
+    echo "setup: WARNING: npm could not install TinyUSDZ; the test usd_tinyusdz will be skipped" >&2
 fi
