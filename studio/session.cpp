@@ -161,6 +161,17 @@ ojson OperationToJson(const StyleOperation& op) {
       body["centre"] = Vector3(op.puff_brush.centre);
       BrushToJson(op.puff_brush, &body);
       break;
+    case Kind::kLength:
+    case Kind::kClump:
+      body["factor"] = op.factor;
+      body["centre"] = Vector3(op.brush.centre);
+      BrushToJson(op.brush, &body);
+      break;
+    case Kind::kFrizz:
+      body["amplitude"] = op.frizz_amplitude;
+      body["centre"] = Vector3(op.brush.centre);
+      BrushToJson(op.brush, &body);
+      break;
   }
   // The masters it acts on (every operation may have a "select").
   const StrandSelection& s = op.selection;
@@ -755,7 +766,10 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
     const StyledHair& b = state->styled;
     if (!SameModel(a.masters.models[i], b.masters.models[i]) ||
         a.solutions[i].curvatures != b.solutions[i].curvatures ||
-        a.masters.wisp_radii[i] != b.masters.wisp_radii[i]) {
+        a.masters.wisp_radii[i] != b.masters.wisp_radii[i] ||
+        MasterWispOptions(a.masters, i).tip_scale != MasterWispOptions(b.masters, i).tip_scale ||
+        MasterWispOptions(a.masters, i).frizz_amplitude !=
+            MasterWispOptions(b.masters, i).frizz_amplitude) {
       changed.push_back(static_cast<int>(i));
     }
   }
