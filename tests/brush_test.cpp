@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -338,6 +339,65 @@ TEST(ClumpAndFrizzBrushes, MirrorReachesTheImage) {
   EXPECT_DOUBLE_EQ(s.masters.clump_factors[1], 0.8125);
 }
 
+// The curl brush: a constant brush at strength 1 is Curl on the masters it reaches (selected by
+// index, as measured here), bit for bit: natural curvature, wisp radius, clearance and
+// equilibrium; the others keep their models and solutions.
+TEST(CurlBrush, AtFullStrengthIsCurlOnTheReachedMasters) {
+  const StyledHair start = SmallHead(24, 0.12);
+  const int n = static_cast<int>(start.masters.models.size());
+  StyleOperation op = BrushOp(StyleOperation::Kind::kCurl, start.masters.roots[3].position,
+                              0.015, Brush::Falloff::kConstant, 1.0, false);
+  op.curl_brushed = true;
+  op.curl_brush = op.brush;
+  op.curl_radius = 0.01;
+  op.curl_pitch = 0.03;
+  StyleOperation curl;
+  curl.kind = StyleOperation::Kind::kCurl;
+  curl.curl_radius = 0.01;
+  curl.curl_pitch = 0.03;
+  for (int i = 0; i < n; ++i) {
+    if (Distance(start, i, op.curl_brush.centre) < 0.015) curl.selection.indices.push_back(i);
+  }
+  ASSERT_FALSE(curl.selection.indices.empty());
+  StyledHair a = start, b = start;
+  std::string error;
+  OperationReport report;
+  ASSERT_TRUE(ApplyOperation(&a, op, {}, nullptr, &report, &error)) << error;
+  EXPECT_EQ(report.strands, static_cast<int>(curl.selection.indices.size())) << report.message;
+  ASSERT_TRUE(ApplyOperation(&b, curl, {}, nullptr, nullptr, &error)) << error;
+  for (int i = 0; i < n; ++i) {
+    EXPECT_EQ(a.masters.models[i].natural_curvature, b.masters.models[i].natural_curvature) << i;
+    EXPECT_EQ(a.masters.wisp_radii[i], b.masters.wisp_radii[i]) << i;
+    EXPECT_EQ(a.masters.models[i].contact.clearance, b.masters.models[i].contact.clearance) << i;
+    EXPECT_EQ(a.solutions[i].curvatures, b.solutions[i].curvatures) << i;
+  }
+}
+
+// Part strength, by hand: the linear brush of the length test weighs 0.375 on the right strand
+// and, mirrored, on the left one; their natural curvature goes from 0 to 0.375 of the helix's
+// (-kappa, 0, tau), kappa = R / (R^2 + c^2), tau = c / (R^2 + c^2), c = p / (2 pi) (R = 0.01 m,
+// p = 0.03 m).
+TEST(CurlBrush, PartStrengthMovesTheCurvatureByTheWeight) {
+  const StyledHair start = HangingPair(0.2);
+  StyleOperation op;
+  op.kind = StyleOperation::Kind::kCurl;
+  op.curl_brushed = true;
+  op.curl_brush = BrushOp(StyleOperation::Kind::kCurl, Vec3(0.03, 0, -0.1), 0.04,
+                          Brush::Falloff::kLinear, 0.5, true).brush;
+  op.curl_radius = 0.01;
+  op.curl_pitch = 0.03;
+  StyledHair s = start;
+  std::string error;
+  ASSERT_TRUE(ApplyOperation(&s, op, {}, nullptr, nullptr, &error)) << error;
+  const double c = 0.03 / (2 * std::numbers::pi), d = 0.01 * 0.01 + c * c;
+  const Vec3 expected = 0.375 * Vec3(-0.01 / d, 0.0, c / d);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_LT((s.masters.models[i].natural_curvature - expected).norm(), 1e-12 * expected.norm())
+        << s.masters.models[i].natural_curvature.transpose();
+    EXPECT_TRUE(s.solutions[i].summary.Converged());
+  }
+}
+
 TEST(LengthBrush, OperationsParseAndNameBadFields) {
   const auto parse = [](const std::string& text, std::vector<StyleOperation>* ops) {
     std::string error;
@@ -354,6 +414,17 @@ TEST(LengthBrush, OperationsParseAndNameBadFields) {
                   &ops),
             "");
   ASSERT_EQ(ops.size(), 3u);
+  std::vector<StyleOperation> curls;
+  ASSERT_EQ(parse(R"({"operations": [{"curl": {"radius": 0.01, "pitch": 0.02,
+      "brush": {"centre": [0, 0, 0.1], "radius": 0.05, "mirror": true}}}]})",
+                  &curls),
+            "");
+  ASSERT_EQ(curls.size(), 1u);
+  EXPECT_TRUE(curls[0].curl_brushed);
+  EXPECT_EQ(curls[0].curl_brush.centre, Vec3(0, 0, 0.1));
+  EXPECT_EQ(curls[0].curl_brush.radius, 0.05);
+  EXPECT_TRUE(curls[0].curl_brush.mirror);
+  EXPECT_EQ(curls[0].curl_radius, 0.01);
   EXPECT_EQ(ops[0].kind, StyleOperation::Kind::kLength);
   EXPECT_EQ(ops[0].factor, 0.8);
   EXPECT_EQ(ops[0].brush.centre, Vec3(0, 0.1, 0));
@@ -396,6 +467,13 @@ TEST(LengthBrush, OperationsParseAndNameBadFields) {
        "operations[0].length.amplitude: unknown field"},
       {R"({"clump": {"factor": 0.5, "centre": [0, 0, 0], "radius": 0.1, "falloff": "cubic"}})",
        "operations[0].clump.falloff: expected \"smooth\", \"linear\" or \"constant\""},
+      {R"({"curl": {"radius": 0.01, "pitch": 0.02, "brush": {"centre": [0, 0, 0]}}})",
+       "operations[0].curl.brush.radius: missing"},
+      {R"({"curl": {"radius": 0.01, "pitch": 0.02, "brush": 0.05}})",
+       "operations[0].curl.brush: expected an object"},
+      {R"({"curl": {"radius": 0.01, "pitch": 0.02, "brush": {"centre": [0, 0, 0],
+                    "radius": 0.05, "size": 1}}})",
+       "operations[0].curl.brush.size: unknown field"},
   };
   for (const auto& [op, message] : bad) {
     const std::string error = parse("{\"operations\": [" + op + "]}", &ops);

@@ -340,6 +340,19 @@ inline constexpr double kMaxPuffTilt = 85.0 * std::numbers::pi / 180.0;
 /// reach the master.
 double MasterBrushWeight(const StyledHair& state, int master, const Brush& brush);
 
+/// Curl brush: Curl by the brush. Each selected master with weight w = MasterBrushWeight > 0
+/// moves its natural curvature toward the helix (R, p) of Curl (Omega*, with Curl's sign):
+///   Omega' = Omega + w (Omega* - Omega)   (Omega* itself when w = 1),
+/// a per-segment rest shape likewise segment by segment (so a sculpted shape is curled, not
+/// dropped; support offsets are dropped), its wisp radius and clearance follow the new
+/// curliness as in Curl, and the changed masters are re-solved warm-started (the old
+/// equilibrium shifted by the change of rest curvature). R = +infinity straightens. A constant
+/// brush at strength 1 on masters without a rest shape is Curl on the masters it reaches, bit
+/// for bit. Rejects what Curl rejects and a bad brush ("curl.brush.<field>").
+bool CurlBrush(StyledHair* state, double radius, double pitch, const Brush& brush,
+               const StrandSelection& selection, const BatchOptions& batch,
+               OperationReport* report, std::string* why);
+
 /// Largest factor of a length or clump brush (dimensionless): the factor is in (0, 10].
 inline constexpr double kMaxBrushFactor = 10.0;
 /// The per-master clump factor (HairstyleMasters::clump_factors) stays in [1/100, 100].
@@ -394,6 +407,9 @@ struct StyleOperation {
   /// left-handed), on the selected masters (Curl).
   double curl_radius = 0.0;
   double curl_pitch = 0.0;
+  /// Curl by a brush (CurlBrush, the file's "brush" object) instead of on the whole selection.
+  bool curl_brushed = false;
+  Brush curl_brush;
   /// The masters every kind acts on (the file's "select"; default: all).
   StrandSelection selection;
   /// Wet: the wetting model's parameters (WetOptions).

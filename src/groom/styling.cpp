@@ -309,6 +309,70 @@ bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection&
   return true;
 }
 
+bool CurlBrush(StyledHair* state, double radius, double pitch, const Brush& brush,
+               const StrandSelection& selection, const BatchOptions& batch,
+               OperationReport* report, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!CheckCurl(radius, pitch, why)) return false;
+  std::string message;
+  if (!brush.IsValid(&message)) return Fail(why, "curl.brush." + message);
+  const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
+  const HelixCurvature helix = CurvatureFromHelix(radius, pitch);
+  const Vec3 target(CurlStartSign(state->style.comb) * helix.curvature, 0.0, helix.torsion);
+  // Omega + w (target - Omega), exactly the target at w = 1.
+  const auto toward = [&target](const Vec3& omega, double w) -> Vec3 {
+    return w == 1.0 ? target : Vec3(omega + w * (target - omega));
+  };
+  OperationReport r;
+  r.name = "curl";
+  std::vector<int> which;
+  std::vector<VecX> warm;
+  for (int i = 0; i < n; ++i) {
+    if (!selection.Selects(i, state->masters.roots[i])) continue;
+    const double w = MasterBrushWeight(*state, i, brush);
+    if (w == 0.0) continue;
+    StrandModel& m = state->masters.models[i];
+    VecX q = state->solutions[i].curvatures;
+    const Vec3 natural = toward(m.natural_curvature, w);
+    if (m.HasRestShape()) {
+      for (int k = 0; k < m.NumSegments(); ++k) {
+        const Vec3 rest = m.rest_curvatures.segment<3>(3 * k);
+        const Vec3 next = toward(rest, w);
+        q.segment<3>(3 * k) += next - rest;
+        m.rest_curvatures.segment<3>(3 * k) = next;
+      }
+    } else {
+      // As Curl: the old equilibrium shifted by the change of natural curvature.
+      for (int k = 0; k < m.NumSegments(); ++k) {
+        q.segment<3>(3 * k) += natural - m.NaturalCurvature(k);
+      }
+    }
+    m.natural_curvature = natural;
+    m.contact.support_offsets.clear();
+    const WispOptions& wisps = state->style.wisps;
+    if (wisps.wisp_radius <= 0.0) {
+      const CrossSection& dry = IsWet(*state, i) ? state->dry.sections[i] : m.section;
+      state->masters.wisp_radii[i] = WispRadius(wisps.strands_per_wisp, dry.MeanRadius(),
+                                                HelixCurliness(natural), wisps.packing_fraction);
+    }
+    if (state->masters.contact_radii.size() == state->masters.models.size()) {
+      state->masters.contact_radii[i] =
+          state->masters.wisp_radii[i] * std::max(1.0, wisps.tip_scale);
+    }
+    m.contact.clearance = MasterClearance(*state, i);
+    which.push_back(i);
+    warm.push_back(std::move(q));
+  }
+  r.strands = static_cast<int>(which.size());
+  if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
+  r.seconds = SecondsSince(start);
+  r.message = Summary(r) + " (brush toward R = " + Number(radius) + " m, p = " + Number(pitch) +
+              " m)";
+  if (report) *report = r;
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Wet and dry
 
@@ -1308,8 +1372,14 @@ bool StyleOperation::IsValid(std::string* why) const {
   // The upper bound of the indices needs the hair: ApplyOperation checks it.
   if (!selection.IsValid(std::numeric_limits<int>::max(), why)) return false;
   switch (kind) {
-    case Kind::kCurl:
-      return CheckCurl(curl_radius, curl_pitch, why);
+    case Kind::kCurl: {
+      if (!CheckCurl(curl_radius, curl_pitch, why)) return false;
+      std::string message;
+      if (curl_brushed && !curl_brush.IsValid(&message)) {
+        return Fail(why, "curl.brush." + message);
+      }
+      return true;
+    }
     case Kind::kWet:
       return wet.IsValid(why);
     case Kind::kDry:
@@ -1345,6 +1415,10 @@ bool ApplyOperation(StyledHair* state, const StyleOperation& operation, const Ba
   const StyleOperation& op = operation;
   switch (op.kind) {
     case StyleOperation::Kind::kCurl:
+      if (op.curl_brushed) {
+        return CurlBrush(state, op.curl_radius, op.curl_pitch, op.curl_brush, op.selection, batch,
+                         report, why);
+      }
       return Curl(state, op.curl_radius, op.curl_pitch, op.selection, batch, report, why);
     case StyleOperation::Kind::kWet:
       return Wet(state, op.wet, batch, report, why, op.selection);

@@ -486,9 +486,28 @@ bool ParseSelection(Reader& reader, const json& operation, const std::string& op
   return true;
 }
 
+bool ParseBrushFields(Reader& reader, const json& object, const std::string& path, Brush* brush);
+
 bool ParseCurlOperation(Reader& reader, const json& curl, const std::string& path,
                         StyleOperation* op) {
-  if (!reader.CheckFields(curl, path, {"radius", "pitch", "select"})) return false;
+  if (!reader.CheckFields(curl, path, {"radius", "pitch", "brush", "select"})) return false;
+  // "brush": {"centre": [x, y, z], "radius": r, ...brush fields}: a curl brush (CurlBrush).
+  const auto brush = curl.find("brush");
+  if (brush != curl.end()) {
+    const std::string brush_path = Member(path, "brush");
+    if (!brush->is_object()) {
+      return reader.Expected(brush_path, "an object {\"centre\": [x, y, z], \"radius\": r, ...}",
+                             *brush);
+    }
+    if (!reader.CheckFields(*brush, brush_path,
+                            {"centre", "radius", "strength", "falloff", "mirror"}) ||
+        !reader.ReadVector<3>(*brush, brush_path, "centre", "m, the brush centre", true,
+                              &op->curl_brush.centre) ||
+        !ParseBrushFields(reader, *brush, brush_path, &op->curl_brush)) {
+      return false;
+    }
+    op->curl_brushed = true;
+  }
   const auto radius = curl.find("radius");
   const char* expected_radius = "a finite number >= 0 (m) or \"inf\" (straighten)";
   if (radius == curl.end()) return reader.Missing(Member(path, "radius"), expected_radius);
