@@ -117,4 +117,15 @@ StyleOperation FrizzOperation(const BrushSettings& brush, const Vec3& centre, bo
   return op;
 }
 
+StyleOperation CurlOperation(const BrushSettings& brush, const Vec3& centre, double radius,
+                             double pitch, bool invert) {
+  StyleOperation op;
+  op.kind = StyleOperation::Kind::kCurl;
+  op.curl_brushed = true;
+  op.curl_brush = MakeBrush(brush, centre);
+  op.curl_radius = invert ? std::numeric_limits<double>::infinity() : radius;
+  op.curl_pitch = invert ? 0.0 : pitch;
+  return op;
+}
+
 }  // namespace ringlet::studio

@@ -67,4 +67,9 @@ StyleOperation ClumpOperation(const BrushSettings& brush, const Vec3& centre, bo
 /// The frizz operation of a click: amplitude frizz_amplitude, or 0 with invert (smooth).
 StyleOperation FrizzOperation(const BrushSettings& brush, const Vec3& centre, bool invert);
 
+/// The curl operation of a click (CurlBrush): toward the helix of radius and pitch (m), or
+/// straight (radius +infinity) with invert (Shift: straighten).
+StyleOperation CurlOperation(const BrushSettings& brush, const Vec3& centre, double radius,
+                             double pitch, bool invert);
+
 }  // namespace ringlet::studio

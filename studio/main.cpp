@@ -1059,6 +1059,9 @@ void Panel(App* app) {
   ImGui::RadioButton("frizz", &app->sculpt_tool, 6);
   Record(app, "sculpt.frizz");
   ImGui::SameLine();
+  ImGui::RadioButton("curl", &app->sculpt_tool, 7);
+  Record(app, "sculpt.curl");
+  ImGui::SameLine();
   ImGui::TextDisabled("(Shift: invert)");
   if (app->sculpt_tool != sculpt_before && app->sculpt_tool != 0) {
     app->brush_mode = false;
@@ -1378,6 +1381,9 @@ std::optional<ImVec2> ViewPoint(App* app, const Vec3& p) {
   return ImVec2(sx / scale, sy / scale);
 }
 
+// A panel value as the user reads it (6 decimals: 0.8f is 0.8, not 0.800000011920929).
+double Typed(float value) { return std::stod(std::to_string(value)); }
+
 BrushSettings SculptBrush(const App* app) {
   BrushSettings b;
   b.radius = app->sculpt_radius_mm * 1e-3;
@@ -1386,9 +1392,9 @@ BrushSettings SculptBrush(const App* app) {
   b.mirror = app->sculpt_mirror;
   b.puff_angle = app->puff_degrees * std::numbers::pi / 180.0;
   // The panel's float values as the user reads them (%.2f: 0.8 is 0.8, not 0.800000011920929).
-  b.length_factor = std::stod(std::to_string(app->length_factor));
-  b.clump_factor = std::stod(std::to_string(app->clump_factor));
-  b.frizz_amplitude = std::stod(std::to_string(app->frizz_mm)) * 1e-3;
+  b.length_factor = Typed(app->length_factor);
+  b.clump_factor = Typed(app->clump_factor);
+  b.frizz_amplitude = Typed(app->frizz_mm) * 1e-3;
   return b;
 }
 
@@ -1413,15 +1419,23 @@ void SculptPress(App* app, double x, double y, int mods) {
   }
   if (app->sculpt_tool >= 4) {
     const std::optional<Vec3> centre = PickBrushCentre(hair->styled, ray, brush.radius, 100.0);
-    const char* name = app->sculpt_tool == 4 ? "length" : app->sculpt_tool == 5 ? "clump" : "frizz";
+    const char* name = app->sculpt_tool == 4   ? "length"
+                       : app->sculpt_tool == 5 ? "clump"
+                       : app->sculpt_tool == 6 ? "frizz"
+                                               : "curl";
     if (!centre) {
       Report(app, std::string(name) + ": no hair or head under the brush (click on the hair)");
       return;
     }
     const bool invert = (mods & GLFW_MOD_SHIFT) != 0;
+    // The curl tool curls toward the panel's curl radius and pitch (Shift straightens).
     AddOperation(app, app->sculpt_tool == 4   ? LengthOperation(brush, *centre, invert)
                       : app->sculpt_tool == 5 ? ClumpOperation(brush, *centre, invert)
-                                              : FrizzOperation(brush, *centre, invert));
+                      : app->sculpt_tool == 6 ? FrizzOperation(brush, *centre, invert)
+                                              : CurlOperation(brush, *centre,
+                                                              Typed(app->curl_radius_mm) * 1e-3,
+                                                              Typed(app->curl_pitch_mm) * 1e-3,
+                                                              invert));
     return;
   }
   const Body* body = hair->styled.style.body.get();

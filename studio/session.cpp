@@ -111,6 +111,12 @@ ojson OperationToJson(const StyleOperation& op) {
         body["radius"] = op.curl_radius;
       }
       body["pitch"] = op.curl_pitch;
+      if (op.curl_brushed) {
+        ojson brush = ojson::object();
+        brush["centre"] = Vector3(op.curl_brush.centre);
+        BrushToJson(op.curl_brush, &brush);
+        body["brush"] = std::move(brush);
+      }
       break;
     }
     case Kind::kWet:
@@ -744,7 +750,10 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
       return false;
     }
     stats.what = report.name;
-    stats.resolved += report.strands;
+    // Clump and frizz change wisps only: their strands are not master solves.
+    if (op.kind != StyleOperation::Kind::kClump && op.kind != StyleOperation::Kind::kFrizz) {
+      stats.resolved += report.strands;
+    }
     stats.iterations += report.iterations;
     if (!stats.message.empty()) stats.message += "; ";
     stats.message += report.message;

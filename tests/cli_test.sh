@@ -359,9 +359,9 @@ run style "$work/sculpt_bad.json" -o "$work/style_bad/x"
 expect_rc "style sculpt radius 0" 1
 expect_one_error_line "style sculpt radius 0" "operations[0].sculpt.radius: expected a finite number in (0, 10]"
 expect_empty_dir "style sculpt radius 0" "$work/style_bad"
-# The length, clump and frizz brushes: after a bob cut (clip records), a mirrored shortening at
-# the back, a clump at the crown and a frizz at the side replay bit for bit, change the hair, and
-# are reported; a bad factor is one line naming the field, nothing written.
+# The length, clump, frizz and curl brushes: after a bob cut (clip records), a mirrored shortening
+# at the back, a clump at the crown, a frizz at the side and a curl brush replay bit for bit,
+# change the hair, and are reported; a bad factor is one line naming the field, nothing written.
 "$PYTHON" - "$work/style.json" "$work/brushes.json" <<'EOF'
 import json, sys
 doc = json.load(open(sys.argv[1]))
@@ -369,7 +369,9 @@ doc["operations"] = [
     {"cut": {"sphere": {"centre": [0, 0, 0], "radius": 0.16}}},
     {"length": {"factor": 0.7, "centre": [0.03, -0.1, -0.05], "radius": 0.08, "mirror": True}},
     {"clump": {"factor": 0.5, "centre": [0, 0, 0.1], "radius": 0.08, "falloff": "linear"}},
-    {"frizz": {"amplitude": 0.004, "centre": [0.1, 0, 0], "radius": 0.1, "strength": 0.5}}]
+    {"frizz": {"amplitude": 0.004, "centre": [0.1, 0, 0], "radius": 0.1, "strength": 0.5}},
+    {"curl": {"radius": 0.01, "pitch": 0.03,
+              "brush": {"centre": [0, 0, 0.1], "radius": 0.08, "mirror": True}}}]
 json.dump(doc, open(sys.argv[2], "w"))
 EOF
 run style "$work/brushes.json" -o "$work/brushes_a" --formats hair,json
@@ -385,7 +387,7 @@ if "$PYTHON" -c '
 import json, sys
 ops = json.load(open(sys.argv[1]))["style"]["operations"]
 names = [o["name"] for o in ops]
-ok = names == ["cut", "length", "clump", "frizz"] and all(o["strands"] > 0 for o in ops[1:])
+ok = names == ["cut", "length", "clump", "frizz", "curl"] and all(o["strands"] > 0 for o in ops[1:])
 sys.exit(0 if ok and "clipped strands rescaled" in ops[1]["message"] else 1)
 ' "$work/brushes_a/masters.json"; then ok; else
   fail "style length/clump/frizz: operations not reported, or one changed no master: $(head -c 900 "$work/brushes_a/masters.json")"

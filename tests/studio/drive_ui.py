@@ -636,7 +636,7 @@ def sculpt():
 
 
 def brushes():
-    # The length, clump and frizz brushes (issue 26): a click on the hair with each tool is one
+    # The length, clump, frizz and curl brushes (issue 26): a click on the hair with each tool is one
     # operation of the document at the hair under the cursor, with the panel's brush and mirror;
     # Shift inverts (lengthen, unclump, smooth). `ringlet style` of the saved file reports that
     # each changed masters and writes Export's bytes.
@@ -653,7 +653,8 @@ def brushes():
               ("sculpt.length", "shift", None, "length", "factor", 1 / 0.8),
               ("sculpt.clump", None, None, "clump", "factor", 0.6),
               ("sculpt.clump", "shift", None, "clump", "factor", 1 / 0.6),
-              ("sculpt.frizz", None, None, "frizz", "amplitude", 0.003))
+              ("sculpt.frizz", None, None, "frizz", "amplitude", 0.003),
+              ("sculpt.curl", None, None, "curl", "radius", 0.008))
     tool = None
     for count, (name, modifier, at, kind, key, value) in enumerate(clicks, 1):
         if name != tool:
@@ -661,7 +662,7 @@ def brushes():
             r = quiet()
             tool = name
             check(r["sculpt_tool"] == {"sculpt.length": 4, "sculpt.clump": 5,
-                                       "sculpt.frizz": 6}[name],
+                                       "sculpt.frizz": 6, "sculpt.curl": 7}[name],
                   f"{kind} chosen by its radio button: tool {r['sculpt_tool']}")
         history = len(report()["history"])
         x, y = (at[0], at[1]) if at else (hx, hy - 40)
@@ -678,8 +679,11 @@ def brushes():
         settle()
         ops = report()["document_operations"]
         op = ops[-1].get(kind) if ops else None
-        check(op is not None and abs(op[key] - value) < 1e-9 and op.get("mirror") is True and
-              abs(op["radius"] - 0.03) < 1e-7 and len(ops) == count,
+        # The curl brush's own fields are in "brush" (its "radius" is the helix's).
+        brush = (op.get("brush") if kind == "curl" else op) if op else None
+        check(op is not None and brush is not None and abs(op[key] - value) < 1e-9 and
+              brush.get("mirror") is True and abs(brush["radius"] - 0.03) < 1e-7 and
+              len(ops) == count,
               f"a {'Shift-' if modifier else ''}click: one {kind} operation, {key} {value:.4g}: "
               f"{ops[-1] if ops else None}")
         if op and at:
@@ -702,7 +706,7 @@ def brushes():
                          check=True, capture_output=True, text=True)
     with open(os.path.join(out, "masters.json")) as f:
         done = json.load(f)["style"]["operations"]
-    check([o["name"] for o in done] == ["length", "length", "clump", "clump", "frizz"] and
+    check([o["name"] for o in done] == ["length", "length", "clump", "clump", "frizz", "curl"] and
           all(o["strands"] > 0 for o in done),
           "the replay: each brush changed masters: " +
           ", ".join(f"{o['name']} {o['strands']}" for o in done))
