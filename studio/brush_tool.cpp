@@ -80,4 +80,52 @@ StyleOperation PuffOperation(const BrushSettings& brush, const Vec3& centre, boo
   return op;
 }
 
+std::optional<Vec3> PickBrushCentre(const StyledHair& hair, const Ray& ray, double reach,
+                                    double max_distance) {
+  if (const std::optional<Vec3> p = PickMasterPoint(hair, ray, reach)) return p;
+  if (!hair.style.body) return std::nullopt;
+  return PickBodyPoint(*hair.style.body, ray, max_distance);
+}
+
+namespace {
+
+StyleOperation BrushOperation(StyleOperation::Kind kind, const BrushSettings& brush,
+                              const Vec3& centre) {
+  StyleOperation op;
+  op.kind = kind;
+  op.brush = MakeBrush(brush, centre);
+  return op;
+}
+
+}  // namespace
+
+StyleOperation LengthOperation(const BrushSettings& brush, const Vec3& centre, bool invert) {
+  StyleOperation op = BrushOperation(StyleOperation::Kind::kLength, brush, centre);
+  op.factor = invert ? 1.0 / brush.length_factor : brush.length_factor;
+  return op;
+}
+
+StyleOperation ClumpOperation(const BrushSettings& brush, const Vec3& centre, bool invert) {
+  StyleOperation op = BrushOperation(StyleOperation::Kind::kClump, brush, centre);
+  op.factor = invert ? 1.0 / brush.clump_factor : brush.clump_factor;
+  return op;
+}
+
+StyleOperation FrizzOperation(const BrushSettings& brush, const Vec3& centre, bool invert) {
+  StyleOperation op = BrushOperation(StyleOperation::Kind::kFrizz, brush, centre);
+  op.frizz_amplitude = invert ? 0.0 : brush.frizz_amplitude;
+  return op;
+}
+
+StyleOperation CurlOperation(const BrushSettings& brush, const Vec3& centre, double radius,
+                             double pitch, bool invert) {
+  StyleOperation op;
+  op.kind = StyleOperation::Kind::kCurl;
+  op.curl_brushed = true;
+  op.curl_brush = MakeBrush(brush, centre);
+  op.curl_radius = invert ? std::numeric_limits<double>::infinity() : radius;
+  op.curl_pitch = invert ? 0.0 : pitch;
+  return op;
+}
+
 }  // namespace ringlet::studio

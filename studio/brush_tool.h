@@ -1,6 +1,6 @@
 // The studio's brush tools without GL (docs/studio.md, "Brushes"): where a ray from the eye meets
 // the hair or the body, where a comb stroke ends, and the hairstyle operations a stroke records
-// (styling.h: Sculpt, Puff). A stroke is data: the window turns the mouse into these operations
+// (styling.h: Sculpt, Puff, LengthBrush, ClumpBrush, FrizzBrush). A stroke is data: the window turns the mouse into these operations
 // and the session applies them like any other, so `ringlet style` replays them bit for bit.
 #pragma once
 
@@ -40,6 +40,9 @@ struct BrushSettings {
   Brush::Falloff falloff = Brush::Falloff::kSmooth;
   bool mirror = true;      ///< mirror symmetry across the head's mid-plane
   double puff_angle = 0.3; ///< (rad) of a puff click at full weight
+  double length_factor = 0.8;     ///< a length click's factor (Shift: 1 / factor, lengthen)
+  double clump_factor = 0.6;      ///< a clump click's factor (Shift: 1 / factor, unclump)
+  double frizz_amplitude = 0.003; ///< a frizz click's amplitude (m; Shift: 0, smooth)
 };
 
 /// The sculpt operation of a comb stroke from `from` to `to` (m).
@@ -47,5 +50,26 @@ StyleOperation SculptOperation(const BrushSettings& brush, const Vec3& from, con
 
 /// The puff operation of a click at `centre` (m); flatten turns the angle's sign.
 StyleOperation PuffOperation(const BrushSettings& brush, const Vec3& centre, bool flatten);
+
+/// Where a length, clump or frizz click acts: the hair under the brush (PickMasterPoint with
+/// the brush radius as reach), else where the ray enters the body (PickBodyPoint, within
+/// max_distance m). None when it meets neither.
+std::optional<Vec3> PickBrushCentre(const StyledHair& hair, const Ray& ray, double reach,
+                                    double max_distance);
+
+/// The length operation of a click at `centre`: factor length_factor, or its inverse with
+/// invert (Shift: lengthen).
+StyleOperation LengthOperation(const BrushSettings& brush, const Vec3& centre, bool invert);
+
+/// The clump operation of a click: factor clump_factor, or its inverse with invert (unclump).
+StyleOperation ClumpOperation(const BrushSettings& brush, const Vec3& centre, bool invert);
+
+/// The frizz operation of a click: amplitude frizz_amplitude, or 0 with invert (smooth).
+StyleOperation FrizzOperation(const BrushSettings& brush, const Vec3& centre, bool invert);
+
+/// The curl operation of a click (CurlBrush): toward the helix of radius and pitch (m), or
+/// straight (radius +infinity) with invert (Shift: straighten).
+StyleOperation CurlOperation(const BrushSettings& brush, const Vec3& centre, double radius,
+                             double pitch, bool invert);
 
 }  // namespace ringlet::studio

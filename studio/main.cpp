@@ -178,7 +178,10 @@ struct App {
   // hair where it should lie: a sculpt operation, held there by inverse statics), 2 puff (click
   // the head: the roots under the brush stand up; Shift flattens). One operation per stroke.
   int sculpt_tool = 0;
+  // 4 length (click the hair: shorten; Shift lengthens), 5 clump (Shift unclumps), 6 frizz
+  // (Shift smooths): one operation per click, at the hair under the brush or the head.
   float sculpt_radius_mm = 30.0f, sculpt_strength = 0.5f, puff_degrees = 15.0f;
+  float length_factor = 0.8f, clump_factor = 0.6f, frizz_mm = 3.0f;
   int sculpt_falloff = 0;  // Brush::Falloff: smooth, linear, constant
   bool sculpt_mirror = true;
   // The parting line being drawn on the head (tool 3): its two ends so far.
@@ -1047,6 +1050,19 @@ void Panel(App* app) {
   ImGui::SameLine();
   ImGui::RadioButton("parting", &app->sculpt_tool, 3);
   Record(app, "sculpt.parting");
+  ImGui::RadioButton("length", &app->sculpt_tool, 4);
+  Record(app, "sculpt.length");
+  ImGui::SameLine();
+  ImGui::RadioButton("clump", &app->sculpt_tool, 5);
+  Record(app, "sculpt.clump");
+  ImGui::SameLine();
+  ImGui::RadioButton("frizz", &app->sculpt_tool, 6);
+  Record(app, "sculpt.frizz");
+  ImGui::SameLine();
+  ImGui::RadioButton("curl", &app->sculpt_tool, 7);
+  Record(app, "sculpt.curl");
+  ImGui::SameLine();
+  ImGui::TextDisabled("(Shift: invert)");
   if (app->sculpt_tool != sculpt_before && app->sculpt_tool != 0) {
     app->brush_mode = false;
     app->cut_tool = 0;
@@ -1054,6 +1070,9 @@ void Panel(App* app) {
   Slider(app, "sculpt radius (mm)", &app->sculpt_radius_mm, 5.0f, 150.0f, "%.0f");
   Slider(app, "strength", &app->sculpt_strength, 0.05f, 1.0f, "%.2f");
   Slider(app, "puff angle (deg)", &app->puff_degrees, 1.0f, 60.0f, "%.0f");
+  Slider(app, "length factor", &app->length_factor, 0.3f, 0.99f, "%.2f");
+  Slider(app, "clump factor", &app->clump_factor, 0.1f, 0.99f, "%.2f");
+  Slider(app, "frizz (mm)", &app->frizz_mm, 0.1f, 20.0f, "%.1f");
   ImGui::SetNextItemWidth(FieldWidth());
   ImGui::Combo("falloff", &app->sculpt_falloff, "smooth\0linear\0constant\0");
   Record(app, "falloff");
@@ -1362,6 +1381,9 @@ std::optional<ImVec2> ViewPoint(App* app, const Vec3& p) {
   return ImVec2(sx / scale, sy / scale);
 }
 
+// A panel value as the user reads it (6 decimals: 0.8f is 0.8, not 0.800000011920929).
+double Typed(float value) { return std::stod(std::to_string(value)); }
+
 BrushSettings SculptBrush(const App* app) {
   BrushSettings b;
   b.radius = app->sculpt_radius_mm * 1e-3;
@@ -1369,6 +1391,10 @@ BrushSettings SculptBrush(const App* app) {
   b.falloff = static_cast<Brush::Falloff>(app->sculpt_falloff);
   b.mirror = app->sculpt_mirror;
   b.puff_angle = app->puff_degrees * std::numbers::pi / 180.0;
+  // The panel's float values as the user reads them (%.2f: 0.8 is 0.8, not 0.800000011920929).
+  b.length_factor = Typed(app->length_factor);
+  b.clump_factor = Typed(app->clump_factor);
+  b.frizz_amplitude = Typed(app->frizz_mm) * 1e-3;
   return b;
 }
 
@@ -1389,6 +1415,27 @@ void SculptPress(App* app, double x, double y, int mods) {
     app->stroke_view = (app->camera.target - app->camera.Position()).normalized().cast<double>();
     app->stroke_anchor = StrokeEnd(*app->stroke_from, ray, app->stroke_view);
     app->stroke_to = *app->stroke_from;
+    return;
+  }
+  if (app->sculpt_tool >= 4) {
+    const std::optional<Vec3> centre = PickBrushCentre(hair->styled, ray, brush.radius, 100.0);
+    const char* name = app->sculpt_tool == 4   ? "length"
+                       : app->sculpt_tool == 5 ? "clump"
+                       : app->sculpt_tool == 6 ? "frizz"
+                                               : "curl";
+    if (!centre) {
+      Report(app, std::string(name) + ": no hair or head under the brush (click on the hair)");
+      return;
+    }
+    const bool invert = (mods & GLFW_MOD_SHIFT) != 0;
+    // The curl tool curls toward the panel's curl radius and pitch (Shift straightens).
+    AddOperation(app, app->sculpt_tool == 4   ? LengthOperation(brush, *centre, invert)
+                      : app->sculpt_tool == 5 ? ClumpOperation(brush, *centre, invert)
+                      : app->sculpt_tool == 6 ? FrizzOperation(brush, *centre, invert)
+                                              : CurlOperation(brush, *centre,
+                                                              Typed(app->curl_radius_mm) * 1e-3,
+                                                              Typed(app->curl_pitch_mm) * 1e-3,
+                                                              invert));
     return;
   }
   const Body* body = hair->styled.style.body.get();

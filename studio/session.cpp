@@ -111,6 +111,12 @@ ojson OperationToJson(const StyleOperation& op) {
         body["radius"] = op.curl_radius;
       }
       body["pitch"] = op.curl_pitch;
+      if (op.curl_brushed) {
+        ojson brush = ojson::object();
+        brush["centre"] = Vector3(op.curl_brush.centre);
+        BrushToJson(op.curl_brush, &brush);
+        body["brush"] = std::move(brush);
+      }
       break;
     }
     case Kind::kWet:
@@ -160,6 +166,17 @@ ojson OperationToJson(const StyleOperation& op) {
       body["angle"] = op.puff_angle;
       body["centre"] = Vector3(op.puff_brush.centre);
       BrushToJson(op.puff_brush, &body);
+      break;
+    case Kind::kLength:
+    case Kind::kClump:
+      body["factor"] = op.factor;
+      body["centre"] = Vector3(op.brush.centre);
+      BrushToJson(op.brush, &body);
+      break;
+    case Kind::kFrizz:
+      body["amplitude"] = op.frizz_amplitude;
+      body["centre"] = Vector3(op.brush.centre);
+      BrushToJson(op.brush, &body);
       break;
   }
   // The masters it acts on (every operation may have a "select").
@@ -733,7 +750,10 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
       return false;
     }
     stats.what = report.name;
-    stats.resolved += report.strands;
+    // Clump and frizz change wisps only: their strands are not master solves.
+    if (op.kind != StyleOperation::Kind::kClump && op.kind != StyleOperation::Kind::kFrizz) {
+      stats.resolved += report.strands;
+    }
     stats.iterations += report.iterations;
     if (!stats.message.empty()) stats.message += "; ";
     stats.message += report.message;
@@ -755,7 +775,10 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
     const StyledHair& b = state->styled;
     if (!SameModel(a.masters.models[i], b.masters.models[i]) ||
         a.solutions[i].curvatures != b.solutions[i].curvatures ||
-        a.masters.wisp_radii[i] != b.masters.wisp_radii[i]) {
+        a.masters.wisp_radii[i] != b.masters.wisp_radii[i] ||
+        MasterWispOptions(a.masters, i).tip_scale != MasterWispOptions(b.masters, i).tip_scale ||
+        MasterWispOptions(a.masters, i).frizz_amplitude !=
+            MasterWispOptions(b.masters, i).frizz_amplitude) {
       changed.push_back(static_cast<int>(i));
     }
   }

@@ -359,6 +359,44 @@ run style "$work/sculpt_bad.json" -o "$work/style_bad/x"
 expect_rc "style sculpt radius 0" 1
 expect_one_error_line "style sculpt radius 0" "operations[0].sculpt.radius: expected a finite number in (0, 10]"
 expect_empty_dir "style sculpt radius 0" "$work/style_bad"
+# The length, clump, frizz and curl brushes: after a bob cut (clip records), a mirrored shortening
+# at the back, a clump at the crown, a frizz at the side and a curl brush replay bit for bit,
+# change the hair, and are reported; a bad factor is one line naming the field, nothing written.
+"$PYTHON" - "$work/style.json" "$work/brushes.json" <<'EOF'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+doc["operations"] = [
+    {"cut": {"sphere": {"centre": [0, 0, 0], "radius": 0.16}}},
+    {"length": {"factor": 0.7, "centre": [0.03, -0.1, -0.05], "radius": 0.08, "mirror": True}},
+    {"clump": {"factor": 0.5, "centre": [0, 0, 0.1], "radius": 0.08, "falloff": "linear"}},
+    {"frizz": {"amplitude": 0.004, "centre": [0.1, 0, 0], "radius": 0.1, "strength": 0.5}},
+    {"curl": {"radius": 0.01, "pitch": 0.03,
+              "brush": {"centre": [0, 0, 0.1], "radius": 0.08, "mirror": True}}}]
+json.dump(doc, open(sys.argv[2], "w"))
+EOF
+run style "$work/brushes.json" -o "$work/brushes_a" --formats hair,json
+expect_rc "style length/clump/frizz" 0
+run style "$work/brushes.json" -o "$work/brushes_b" --formats hair,json
+expect_rc "style length/clump/frizz again" 0
+cmp -s "$work/brushes_a/strands.hair" "$work/brushes_b/strands.hair" && ok ||
+  fail "style length/clump/frizz: two runs differ"
+if cmp -s "$work/brushes_a/strands.hair" "$work/sculpt_plain/strands.hair"; then
+  fail "style length/clump/frizz: the strands equal the unstyled groom's"
+else ok; fi
+if "$PYTHON" -c '
+import json, sys
+ops = json.load(open(sys.argv[1]))["style"]["operations"]
+names = [o["name"] for o in ops]
+ok = names == ["cut", "length", "clump", "frizz", "curl"] and all(o["strands"] > 0 for o in ops[1:])
+sys.exit(0 if ok and "clipped strands rescaled" in ops[1]["message"] else 1)
+' "$work/brushes_a/masters.json"; then ok; else
+  fail "style length/clump/frizz: operations not reported, or one changed no master: $(head -c 900 "$work/brushes_a/masters.json")"
+fi
+sed 's/"factor": 0.7/"factor": 0/' "$work/brushes.json" >"$work/brushes_bad.json"
+run style "$work/brushes_bad.json" -o "$work/style_bad/x"
+expect_rc "style length factor 0" 1
+expect_one_error_line "style length factor 0" "operations[1].length.factor: expected a finite number in (0, 10]"
+expect_empty_dir "style length factor 0" "$work/style_bad"
 # The output options of `groom` (one code, cli/outputs.h): --formats chooses the strand files and
 # with them the grow files (steps as .hair with "hair", grow.usda with "usda");
 # --hair-units-per-metre scales every .hair coordinate (read back here from the file's layout,

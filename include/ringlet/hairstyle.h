@@ -194,8 +194,17 @@ struct HairstyleMasters {
   /// vector per master, each empty (natural shape) or 3n curvatures (explicit masters).
   std::vector<VecX> start_curvatures;
   WispOptions wisp_options;        ///< the hairstyle's wisp options with spread_roots applied
+  /// Per-master wisp parameters set by the clump and frizz brushes (styling.h, Clump, Frizz):
+  /// master i's wisp takes tip_scale x clump_factors[i] and frizz_amplitude =
+  /// frizz_amplitudes[i] (m). Empty (BuildMasters): every wisp takes wisp_options as they are.
+  std::vector<double> clump_factors;
+  std::vector<double> frizz_amplitudes;
   RootSamplingSummary root_summary;
 };
+
+/// The wisp options of master i: wisp_options with the per-master clump factor and frizz
+/// amplitude applied (HairstyleMasters; the same options, bit for bit, when both are empty).
+WispOptions MasterWispOptions(const HairstyleMasters& masters, size_t i);
 
 /// Samples the roots and builds the master models: strand i takes SampleStrand(hair_type, seed,
 /// i) (section, natural curvature, material, length factor), segments graded as asked, root

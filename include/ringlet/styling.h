@@ -332,17 +332,84 @@ bool Puff(StyledHair* state, double angle, const Brush& brush, const StrandSelec
 /// Largest tilt of a root tangent from the scalp normal a puff leaves (rad): 85 degrees.
 inline constexpr double kMaxPuffTilt = 85.0 * std::numbers::pi / 180.0;
 
+/// The weight of a brush on master i (docs/styling.md, "Brushes"): w = Brush::Weight of the
+/// distance from the brush centre to the nearest of the master's equilibrium centreline samples
+/// (its root and 4 points per segment, u = l k / 4; w is decreasing in the distance, so this is
+/// the largest weight over the samples), and with mirror the larger of that and the weight at the
+/// mirrored centre (MirrorAcrossHead). So a brush on the hair or on the head near the roots both
+/// reach the master.
+double MasterBrushWeight(const StyledHair& state, int master, const Brush& brush);
+
+/// Curl brush: Curl by the brush. Each selected master with weight w = MasterBrushWeight > 0
+/// moves its natural curvature toward the helix (R, p) of Curl (Omega*, with Curl's sign):
+///   Omega' = Omega + w (Omega* - Omega)   (Omega* itself when w = 1),
+/// a per-segment rest shape likewise segment by segment (so a sculpted shape is curled, not
+/// dropped; support offsets are dropped), its wisp radius and clearance follow the new
+/// curliness as in Curl, and the changed masters are re-solved warm-started (the old
+/// equilibrium shifted by the change of rest curvature). R = +infinity straightens. A constant
+/// brush at strength 1 on masters without a rest shape is Curl on the masters it reaches, bit
+/// for bit. Rejects what Curl rejects and a bad brush ("curl.brush.<field>").
+bool CurlBrush(StyledHair* state, double radius, double pitch, const Brush& brush,
+               const StrandSelection& selection, const BatchOptions& batch,
+               OperationReport* report, std::string* why);
+
+/// Largest factor of a length or clump brush (dimensionless): the factor is in (0, 10].
+inline constexpr double kMaxBrushFactor = 10.0;
+/// The per-master clump factor (HairstyleMasters::clump_factors) stays in [1/100, 100].
+inline constexpr double kMaxClumpFactor = 100.0;
+/// Largest frizz amplitude a frizz brush sets (m): 5 cm.
+inline constexpr double kMaxFrizzAmplitude = 0.05;
+
+/// Length brush: each selected master with weight w = MasterBrushWeight > 0 gets the length
+///   L' = L (1 + w (factor - 1)),   factor in (0, kMaxBrushFactor]
+/// (factor < 1 shortens, > 1 lengthens; a constant falloff at strength 1 scales the masters it
+/// reaches by exactly the factor). Shortening truncates the master at L' (TruncateModel, as a
+/// cut: the rest shape of the kept segments is kept); lengthening adds L' - L at the tip as Grow
+/// does (the last segment lengthened, segments of the longest one's length appended, the helix
+/// continued, appended rest curvatures the hair type's curl). The changed masters are re-solved
+/// warm-started. The children follow (a child is a fixed fraction of its master's length); a
+/// child clipped by an earlier cut (StyledHair::strand_cuts) keeps its clip scaled alike: its
+/// drawn arc length c becomes c (1 + w (factor - 1)) on the new strand (ClipStrands with a
+/// kMaxLength region; uncut when the new strand is not longer), so shortening never lengthens a
+/// strand. Refuses a bad factor or brush ("length.<field>: ..."), a bad selection and growth
+/// beyond kMaxSegments; the other masters keep their model and solution bit for bit.
+bool LengthBrush(StyledHair* state, double factor, const Brush& brush,
+                 const StrandSelection& selection, const BatchOptions& batch,
+                 OperationReport* report, std::string* why);
+
+/// Clump brush: each selected master with weight w > 0 multiplies its wisp's clump factor k
+/// (HairstyleMasters::clump_factors, the multiplier of WispOptions::tip_scale, 1 by default) by
+///   1 + w (factor - 1),   factor in (0, kMaxBrushFactor],
+/// kept in [1 / kMaxClumpFactor, kMaxClumpFactor]: factor < 1 draws the children toward the
+/// master at the tip (tighter wisps), > 1 spreads them. Only the wisps change: the masters keep
+/// their model and solution (the contact clearance stays that of the hairstyle's tip_scale; the
+/// children are pushed out of the body as always). Clip records of earlier cuts stay on the same
+/// points of the strands.
+bool ClumpBrush(StyledHair* state, double factor, const Brush& brush,
+                const StrandSelection& selection, OperationReport* report, std::string* why);
+
+/// Frizz brush: each selected master with weight w > 0 moves its wisp's frizz amplitude a
+/// (HairstyleMasters::frizz_amplitudes, WispOptions::frizz_amplitude by default) toward
+/// `amplitude` (m, in [0, kMaxFrizzAmplitude]):
+///   a' = a + w (amplitude - a)
+/// (amplitude 0 smooths the frizz away). Only the wisps change, as for ClumpBrush.
+bool FrizzBrush(StyledHair* state, double amplitude, const Brush& brush,
+                const StrandSelection& selection, OperationReport* report, std::string* why);
+
 /// One styling operation with its parameters: an entry of a hairstyle file's "operations" list
 /// (ParseStyleOperations, docs/hairstyle-format.md) or one option of `ringlet style`. Only the
 /// fields of `kind` are used. ApplyOperation runs it, so the file and the command line share one
 /// code path.
 struct StyleOperation {
-  enum class Kind { kCurl, kWet, kDry, kCut, kGrow, kSculpt, kPuff };
+  enum class Kind { kCurl, kWet, kDry, kCut, kGrow, kSculpt, kPuff, kLength, kClump, kFrizz };
   Kind kind = Kind::kWet;
   /// Curl: helix radius R (m, >= 0, +infinity = straight) and pitch p (m, finite, < 0 =
   /// left-handed), on the selected masters (Curl).
   double curl_radius = 0.0;
   double curl_pitch = 0.0;
+  /// Curl by a brush (CurlBrush, the file's "brush" object) instead of on the whole selection.
+  bool curl_brushed = false;
+  Brush curl_brush;
   /// The masters every kind acts on (the file's "select"; default: all).
   StrandSelection selection;
   /// Wet: the wetting model's parameters (WetOptions).
@@ -359,6 +426,12 @@ struct StyleOperation {
   /// Puff: the angle (rad, |angle| <= pi / 2) and the brush (Puff).
   double puff_angle = 0.0;
   Brush puff_brush;
+  /// Length, clump and frizz: the brush (LengthBrush, ClumpBrush, FrizzBrush) with the length or
+  /// clump factor (in (0, kMaxBrushFactor]) or the frizz amplitude (m, in [0,
+  /// kMaxFrizzAmplitude]).
+  Brush brush;
+  double factor = 1.0;
+  double frizz_amplitude = 0.0;
 
   /// Checks the parameters that do not depend on the hair (the checks of Curl, Wet, Cut and
   /// Grow, with their messages; selection indices only for >= 0, the upper bound is checked
@@ -367,7 +440,7 @@ struct StyleOperation {
 };
 
 /// The operation's name, as in OperationReport::name: "curl", "wet", "dry", "cut", "grow",
-/// "sculpt", "puff".
+/// "sculpt", "puff", "length", "clump", "frizz".
 const char* OperationName(StyleOperation::Kind kind);
 
 /// Runs one operation on the styled state (Curl, Wet, Dry, Cut or Grow with the operation's

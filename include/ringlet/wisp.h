@@ -150,13 +150,16 @@ std::uint64_t WispSeed(std::uint64_t seed, std::uint64_t index);
 /// master order: wisp i (strands i N .. i N + N - 1) uses WispSeed(seed, i), so the output is
 /// bit-identical whatever the thread count. sections has one entry per master or a single one
 /// shared by all. wisp_radii, when not null, gives each wisp's radius r_w (m, one per master),
-/// overriding options.wisp_radius and the automatic radius. On bad input (invalid options,
-/// master, section or radius, size mismatch) returns empty curves and, if why is not null, a
-/// one-line message naming the field.
+/// overriding options.wisp_radius and the automatic radius. per_master_options, when not null,
+/// gives each wisp its own options (one per master, each with options' strands_per_wisp and
+/// points_per_strand; the brushes' clump and frizz, HairstyleMasters). On bad input (invalid
+/// options, master, section or radius, size mismatch) returns empty curves and, if why is not
+/// null, a one-line message naming the field.
 HairCurves GenerateWisps(const std::vector<FramedCentreline>& masters,
                          const std::vector<CrossSection>& sections, const WispOptions& options,
                          std::uint64_t seed, const Obstacle* obstacle = nullptr,
                          std::string* why = nullptr,
-                         const std::vector<double>* wisp_radii = nullptr);
+                         const std::vector<double>* wisp_radii = nullptr,
+                         const std::vector<WispOptions>* per_master_options = nullptr);
 
 }  // namespace ringlet

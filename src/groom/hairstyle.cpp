@@ -345,6 +345,13 @@ bool BuildMasters(const Hairstyle& style, HairstyleMasters* masters, std::string
   return true;
 }
 
+WispOptions MasterWispOptions(const HairstyleMasters& masters, size_t i) {
+  WispOptions o = masters.wisp_options;
+  if (i < masters.clump_factors.size()) o.tip_scale *= masters.clump_factors[i];
+  if (i < masters.frizz_amplitudes.size()) o.frizz_amplitude = masters.frizz_amplitudes[i];
+  return o;
+}
+
 bool GrowWisps(const Hairstyle& style, const HairstyleMasters& masters,
                const std::vector<StrandSolution>& solutions, HairCurves* strands,
                std::string* why) {
@@ -357,9 +364,17 @@ bool GrowWisps(const Hairstyle& style, const HairstyleMasters& masters,
                                             style.master_points_per_segment);
     sections[i] = masters.models[i].section;
   }
+  // Per-master options only when a clump or frizz brush set some (bit for bit the same
+  // otherwise).
+  std::vector<WispOptions> per_master;
+  if (!masters.clump_factors.empty() || !masters.frizz_amplitudes.empty()) {
+    per_master.reserve(n);
+    for (size_t i = 0; i < n; ++i) per_master.push_back(MasterWispOptions(masters, i));
+  }
   std::string reason;
   HairCurves curves = GenerateWisps(centrelines, sections, masters.wisp_options, style.seed,
-                                    style.body.get(), &reason, &masters.wisp_radii);
+                                    style.body.get(), &reason, &masters.wisp_radii,
+                                    per_master.empty() ? nullptr : &per_master);
   if (curves.NumStrands() == 0 && n > 0) return Fail(why, "wisps: " + reason);
   *strands = std::move(curves);
   return true;
@@ -398,8 +413,8 @@ bool RegrowWisps(const Hairstyle& style, const HairstyleMasters& masters,
       wisp.points.clear();
       wisp.widths.clear();
       wisp.major_axes.clear();
-      AppendWisp(centreline, masters.models[i].section, masters.wisp_radii[i], options,
-                 WispSeed(style.seed, i), style.body.get(), &wisp);
+      AppendWisp(centreline, masters.models[i].section, masters.wisp_radii[i],
+                 MasterWispOptions(masters, i), WispSeed(style.seed, i), style.body.get(), &wisp);
       std::copy(wisp.point_counts.begin(), wisp.point_counts.end(),
                 strands->point_counts.begin() + i * per_wisp);
       const size_t at = i * per_wisp * points;

@@ -309,6 +309,70 @@ bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection&
   return true;
 }
 
+bool CurlBrush(StyledHair* state, double radius, double pitch, const Brush& brush,
+               const StrandSelection& selection, const BatchOptions& batch,
+               OperationReport* report, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!CheckCurl(radius, pitch, why)) return false;
+  std::string message;
+  if (!brush.IsValid(&message)) return Fail(why, "curl.brush." + message);
+  const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
+  const HelixCurvature helix = CurvatureFromHelix(radius, pitch);
+  const Vec3 target(CurlStartSign(state->style.comb) * helix.curvature, 0.0, helix.torsion);
+  // Omega + w (target - Omega), exactly the target at w = 1.
+  const auto toward = [&target](const Vec3& omega, double w) -> Vec3 {
+    return w == 1.0 ? target : Vec3(omega + w * (target - omega));
+  };
+  OperationReport r;
+  r.name = "curl";
+  std::vector<int> which;
+  std::vector<VecX> warm;
+  for (int i = 0; i < n; ++i) {
+    if (!selection.Selects(i, state->masters.roots[i])) continue;
+    const double w = MasterBrushWeight(*state, i, brush);
+    if (w == 0.0) continue;
+    StrandModel& m = state->masters.models[i];
+    VecX q = state->solutions[i].curvatures;
+    const Vec3 natural = toward(m.natural_curvature, w);
+    if (m.HasRestShape()) {
+      for (int k = 0; k < m.NumSegments(); ++k) {
+        const Vec3 rest = m.rest_curvatures.segment<3>(3 * k);
+        const Vec3 next = toward(rest, w);
+        q.segment<3>(3 * k) += next - rest;
+        m.rest_curvatures.segment<3>(3 * k) = next;
+      }
+    } else {
+      // As Curl: the old equilibrium shifted by the change of natural curvature.
+      for (int k = 0; k < m.NumSegments(); ++k) {
+        q.segment<3>(3 * k) += natural - m.NaturalCurvature(k);
+      }
+    }
+    m.natural_curvature = natural;
+    m.contact.support_offsets.clear();
+    const WispOptions& wisps = state->style.wisps;
+    if (wisps.wisp_radius <= 0.0) {
+      const CrossSection& dry = IsWet(*state, i) ? state->dry.sections[i] : m.section;
+      state->masters.wisp_radii[i] = WispRadius(wisps.strands_per_wisp, dry.MeanRadius(),
+                                                HelixCurliness(natural), wisps.packing_fraction);
+    }
+    if (state->masters.contact_radii.size() == state->masters.models.size()) {
+      state->masters.contact_radii[i] =
+          state->masters.wisp_radii[i] * std::max(1.0, wisps.tip_scale);
+    }
+    m.contact.clearance = MasterClearance(*state, i);
+    which.push_back(i);
+    warm.push_back(std::move(q));
+  }
+  r.strands = static_cast<int>(which.size());
+  if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
+  r.seconds = SecondsSince(start);
+  r.message = Summary(r) + " (brush toward R = " + Number(radius) + " m, p = " + Number(pitch) +
+              " m)";
+  if (report) *report = r;
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Wet and dry
 
@@ -676,6 +740,34 @@ bool CutBelow(StyledHair* state, double z, const CutOptions& options, const Batc
 // ---------------------------------------------------------------------------------------------
 // Grow
 
+namespace {
+
+// Adds `length` (m) at the tip of a model (Grow): the last segment lengthened, segments of
+// `max_segment` appended while it would exceed that; a per-segment rest shape keeps the
+// lengthened segment's rest curvatures and gives the appended ones the natural curvature.
+void ExtendModel(StrandModel* model, double length, double max_segment) {
+  std::vector<double>& l = model->segment_lengths;
+  double last = l.back() + length;
+  l.pop_back();
+  while (last > max_segment) {
+    l.push_back(max_segment);
+    last -= max_segment;
+  }
+  l.push_back(last);
+  // A per-segment rest shape: the lengthened last segment keeps its rest curvatures, new
+  // segments get the hair type's natural curvature.
+  model->contact.support_offsets.clear();  // the grown strand's samples moved (as for cut)
+  if (model->HasRestShape()) {
+    const Eigen::Index kept = model->rest_curvatures.size();
+    model->rest_curvatures.conservativeResize(3 * model->NumSegments());
+    for (Eigen::Index j = kept; j < model->rest_curvatures.size(); j += 3) {
+      model->rest_curvatures.segment<3>(j) = model->natural_curvature;
+    }
+  }
+}
+
+}  // namespace
+
 bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
           std::vector<StyledHair>* sequence, OperationReport* report, std::string* why,
           const StrandSelection& selection) {
@@ -726,27 +818,9 @@ bool Grow(StyledHair* state, double step, int steps, const BatchOptions& batch,
     std::vector<VecX> warm(which.size());
     for (size_t k = 0; k < which.size(); ++k) {
       const int i = which[k];
-      std::vector<double>& l = state->masters.models[i].segment_lengths;
-      double last = l.back() + step;
-      l.pop_back();
-      while (last > max_segment[i]) {
-        l.push_back(max_segment[i]);
-        last -= max_segment[i];
-      }
-      l.push_back(last);
-      // A per-segment rest shape: the lengthened last segment keeps its rest curvatures, new
-      // segments get the hair type's natural curvature.
-      StrandModel& m = state->masters.models[i];
-      m.contact.support_offsets.clear();  // the grown strand's samples moved (as for cut)
-      if (m.HasRestShape()) {
-        const Eigen::Index kept = m.rest_curvatures.size();
-        m.rest_curvatures.conservativeResize(3 * m.NumSegments());
-        for (Eigen::Index j = kept; j < m.rest_curvatures.size(); j += 3) {
-          m.rest_curvatures.segment<3>(j) = m.natural_curvature;
-        }
-      }
+      ExtendModel(&state->masters.models[i], step, max_segment[i]);
       const VecX& q = state->solutions[i].curvatures;
-      warm[k] = WarmStart(q, q, static_cast<int>(l.size()));
+      warm[k] = WarmStart(q, q, state->masters.models[i].NumSegments());
     }
     if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
     if (sequence) sequence->push_back(*state);
@@ -1026,6 +1100,241 @@ bool Puff(StyledHair* state, double angle, const Brush& brush, const StrandSelec
 }
 
 // ---------------------------------------------------------------------------------------------
+// Length, clump and frizz brushes (docs/styling.md, "Brushes")
+
+double MasterBrushWeight(const StyledHair& state, int master, const Brush& brush) {
+  const StrandModel& m = state.masters.models[master];
+  std::vector<double> arc_lengths = SculptSamplesOf(m).arc_lengths;
+  arc_lengths.insert(arc_lengths.begin(), 0.0);  // the root
+  const std::vector<Vec3> points =
+      SampleCentrelineAt(m, state.solutions[master].curvatures, arc_lengths);
+  double nearest = std::numeric_limits<double>::infinity();
+  double nearest_mirror = std::numeric_limits<double>::infinity();
+  const Vec3 mirror_centre =
+      brush.mirror ? MirrorAcrossHead(HairstyleHead(state.style), brush.centre) : brush.centre;
+  for (const Vec3& x : points) {
+    nearest = std::min(nearest, (x - brush.centre).norm());
+    if (brush.mirror) nearest_mirror = std::min(nearest_mirror, (x - mirror_centre).norm());
+  }
+  double w = brush.Weight(nearest);
+  if (brush.mirror) w = std::max(w, brush.Weight(nearest_mirror));
+  return w;
+}
+
+namespace {
+
+bool CheckBrushFactor(const char* name, double factor, const Brush& brush, std::string* why) {
+  if (!(factor > 0.0 && factor <= kMaxBrushFactor)) {
+    return Fail(why, std::string(name) + ".factor: expected a number in (0, " +
+                         Number(kMaxBrushFactor) + "], got " + Number(factor));
+  }
+  std::string message;
+  if (!brush.IsValid(&message)) return Fail(why, std::string(name) + "." + message);
+  return true;
+}
+
+bool CheckFrizz(double amplitude, const Brush& brush, std::string* why) {
+  if (!(amplitude >= 0.0 && amplitude <= kMaxFrizzAmplitude)) {
+    return Fail(why, "frizz.amplitude: expected a length in [0, " + Number(kMaxFrizzAmplitude) +
+                         "] (m), got " + Number(amplitude));
+  }
+  std::string message;
+  if (!brush.IsValid(&message)) return Fail(why, "frizz." + message);
+  return true;
+}
+
+// The strands of wisp i as GrowWisps draws them (one AppendWisp, as RegrowWisps).
+HairCurves WispOf(const StyledHair& state, int i) {
+  const FramedCentreline centreline =
+      SampleFramedCentreline(state.masters.models[i], state.solutions[i].curvatures,
+                             state.style.master_points_per_segment);
+  HairCurves wisp;
+  AppendWisp(centreline, state.masters.models[i].section, state.masters.wisp_radii[i],
+             MasterWispOptions(state.masters, static_cast<size_t>(i)),
+             WispSeed(state.style.seed, static_cast<std::uint64_t>(i)), state.style.body.get(),
+             &wisp);
+  return wisp;
+}
+
+// The drawn arc length (m) of strand k of curves ended as `cut` says (ApplyStrandCuts: the
+// polyline summed in double from the float points, up to the stored end point).
+double ClippedArcLength(const HairCurves& curves, size_t first, int count, const StrandCut& cut) {
+  const Vec3f* p = curves.points.data() + first;
+  const int last = cut.segment >= 0 ? cut.segment : count - 1;
+  double s = 0.0;
+  for (int j = 0; j < last; ++j) s += (p[j + 1] - p[j]).cast<double>().norm();
+  if (cut.segment >= 0) {
+    const Vec3f end = (p[last].cast<double>() + cut.t * (p[last + 1] - p[last]).cast<double>())
+                          .cast<float>();
+    s += (end - p[last]).cast<double>().norm();
+  }
+  return s;
+}
+
+}  // namespace
+
+bool LengthBrush(StyledHair* state, double factor, const Brush& brush,
+                 const StrandSelection& selection, const BatchOptions& batch,
+                 OperationReport* report, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!CheckBrushFactor("length", factor, brush, why)) return false;
+  const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
+  std::vector<int> which;
+  std::vector<double> scales;
+  for (int i = 0; i < n; ++i) {
+    if (!selection.Selects(i, state->masters.roots[i])) continue;
+    const double w = MasterBrushWeight(*state, i, brush);
+    if (w == 0.0) continue;
+    const double scale = 1.0 + w * (factor - 1.0);
+    if (scale == 1.0) continue;
+    if (scale > 1.0) {
+      const auto& l = state->masters.models[i].segment_lengths;
+      const double longest = *std::max_element(l.begin(), l.end());
+      const double add = (scale - 1.0) * state->masters.models[i].Length();
+      const double segments = static_cast<double>(l.size()) + 1.0 + (l.back() + add) / longest;
+      if (!(segments <= kMaxSegments)) {
+        return Fail(why, "length.factor: lengthening master " + std::to_string(i) + " by " +
+                             Number(add) + " m would give it about " + Number(segments) +
+                             " segments, more than the limit of " + std::to_string(kMaxSegments));
+      }
+    }
+    which.push_back(i);
+    scales.push_back(scale);
+  }
+  // The drawn arc length of every clipped strand of the changed wisps, before the change.
+  const size_t per_wisp = static_cast<size_t>(state->masters.wisp_options.strands_per_wisp);
+  const bool clipped = !state->strand_cuts.empty();
+  std::vector<std::vector<double>> clipped_lengths(which.size());
+  if (clipped) {
+    for (size_t k = 0; k < which.size(); ++k) {
+      const HairCurves wisp = WispOf(*state, which[k]);
+      size_t first = 0;
+      clipped_lengths[k].assign(per_wisp, -1.0);
+      for (size_t j = 0; j < per_wisp; ++j) {
+        const int count = static_cast<int>(wisp.point_counts[j]);
+        const StrandCut& cut = state->strand_cuts[static_cast<size_t>(which[k]) * per_wisp + j];
+        if (cut.segment >= 0) clipped_lengths[k][j] = ClippedArcLength(wisp, first, count, cut);
+        first += static_cast<size_t>(count);
+      }
+    }
+  }
+  std::vector<VecX> warm(which.size());
+  for (size_t k = 0; k < which.size(); ++k) {
+    const int i = which[k];
+    StrandModel& m = state->masters.models[i];
+    VecX q = state->solutions[i].curvatures;
+    if (scales[k] < 1.0) {
+      m = TruncateModel(m, scales[k] * m.Length(), &q);
+    } else {
+      const auto& l = m.segment_lengths;
+      const double longest = *std::max_element(l.begin(), l.end());
+      ExtendModel(&m, (scales[k] - 1.0) * m.Length(), longest);
+      q = WarmStart(q, q, m.NumSegments());
+    }
+    warm[k] = std::move(q);
+  }
+  OperationReport r;
+  r.name = "length";
+  r.strands = static_cast<int>(which.size());
+  if (!Resolve(state, which, warm, batch, &r, &r.unconverged)) return Fail(why, kCancelled);
+  // The clipped strands keep their clip, scaled as their master.
+  int reclipped = 0;
+  if (clipped) {
+    for (size_t k = 0; k < which.size(); ++k) {
+      const HairCurves wisp = WispOf(*state, which[k]);
+      size_t first = 0;
+      for (size_t j = 0; j < per_wisp; ++j) {
+        const int count = static_cast<int>(wisp.point_counts[j]);
+        StrandCut& cut = state->strand_cuts[static_cast<size_t>(which[k]) * per_wisp + j];
+        cut = StrandCut{};
+        if (clipped_lengths[k][j] >= 0.0) {
+          HairCurves one;
+          one.point_counts.push_back(wisp.point_counts[j]);
+          one.points.assign(wisp.points.begin() + static_cast<std::ptrdiff_t>(first),
+                            wisp.points.begin() + static_cast<std::ptrdiff_t>(first + count));
+          CutRegion region;
+          region.kind = CutRegion::Kind::kMaxLength;
+          region.length = clipped_lengths[k][j] * scales[k];
+          std::vector<StrandCut> cuts(1);
+          if (region.length > 0.0 && ClipStrands(region, one, &cuts) > 0) {
+            cut = cuts[0];
+            ++reclipped;
+          }
+        }
+        first += static_cast<size_t>(count);
+      }
+    }
+    if (std::all_of(state->strand_cuts.begin(), state->strand_cuts.end(),
+                    [](const StrandCut& c) { return c.segment < 0; })) {
+      state->strand_cuts.clear();
+    }
+  }
+  r.seconds = SecondsSince(start);
+  r.message = Summary(r) + " (factor " + Number(factor) + ")";
+  if (reclipped > 0) r.message += ", " + std::to_string(reclipped) + " clipped strands rescaled";
+  if (report) *report = r;
+  return true;
+}
+
+bool ClumpBrush(StyledHair* state, double factor, const Brush& brush,
+                const StrandSelection& selection, OperationReport* report, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!CheckBrushFactor("clump", factor, brush, why)) return false;
+  const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
+  std::vector<double> factors = state->masters.clump_factors;
+  if (factors.size() != static_cast<size_t>(n)) factors.assign(n, 1.0);
+  OperationReport r;
+  r.name = "clump";
+  for (int i = 0; i < n; ++i) {
+    if (!selection.Selects(i, state->masters.roots[i])) continue;
+    const double w = MasterBrushWeight(*state, i, brush);
+    if (w == 0.0) continue;
+    const double k = std::clamp(factors[i] * (1.0 + w * (factor - 1.0)), 1.0 / kMaxClumpFactor,
+                                kMaxClumpFactor);
+    if (k == factors[i]) continue;
+    factors[i] = k;
+    ++r.strands;
+  }
+  if (r.strands > 0) state->masters.clump_factors = std::move(factors);
+  r.seconds = SecondsSince(start);
+  r.message = "clump: " + std::to_string(r.strands) + " wisps changed (factor " + Number(factor) +
+              ")";
+  if (report) *report = r;
+  return true;
+}
+
+bool FrizzBrush(StyledHair* state, double amplitude, const Brush& brush,
+                const StrandSelection& selection, OperationReport* report, std::string* why) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!CheckFrizz(amplitude, brush, why)) return false;
+  const int n = static_cast<int>(state->masters.models.size());
+  if (!selection.IsValid(n, why)) return false;
+  std::vector<double> amplitudes = state->masters.frizz_amplitudes;
+  if (amplitudes.size() != static_cast<size_t>(n)) {
+    amplitudes.assign(n, state->masters.wisp_options.frizz_amplitude);
+  }
+  OperationReport r;
+  r.name = "frizz";
+  for (int i = 0; i < n; ++i) {
+    if (!selection.Selects(i, state->masters.roots[i])) continue;
+    const double w = MasterBrushWeight(*state, i, brush);
+    if (w == 0.0) continue;
+    const double a = amplitudes[i] + w * (amplitude - amplitudes[i]);
+    if (a == amplitudes[i]) continue;
+    amplitudes[i] = a;
+    ++r.strands;
+  }
+  if (r.strands > 0) state->masters.frizz_amplitudes = std::move(amplitudes);
+  r.seconds = SecondsSince(start);
+  r.message = "frizz: " + std::to_string(r.strands) + " wisps changed (amplitude " +
+              Number(amplitude) + " m)";
+  if (report) *report = r;
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
 // Operations as data
 
 const char* OperationName(StyleOperation::Kind kind) {
@@ -1044,6 +1353,12 @@ const char* OperationName(StyleOperation::Kind kind) {
       return "sculpt";
     case StyleOperation::Kind::kPuff:
       return "puff";
+    case StyleOperation::Kind::kLength:
+      return "length";
+    case StyleOperation::Kind::kClump:
+      return "clump";
+    case StyleOperation::Kind::kFrizz:
+      return "frizz";
   }
   return "unknown";
 }
@@ -1057,8 +1372,14 @@ bool StyleOperation::IsValid(std::string* why) const {
   // The upper bound of the indices needs the hair: ApplyOperation checks it.
   if (!selection.IsValid(std::numeric_limits<int>::max(), why)) return false;
   switch (kind) {
-    case Kind::kCurl:
-      return CheckCurl(curl_radius, curl_pitch, why);
+    case Kind::kCurl: {
+      if (!CheckCurl(curl_radius, curl_pitch, why)) return false;
+      std::string message;
+      if (curl_brushed && !curl_brush.IsValid(&message)) {
+        return Fail(why, "curl.brush." + message);
+      }
+      return true;
+    }
     case Kind::kWet:
       return wet.IsValid(why);
     case Kind::kDry:
@@ -1078,6 +1399,12 @@ bool StyleOperation::IsValid(std::string* why) const {
       if (!puff_brush.IsValid(&message)) return Fail(why, "puff." + message);
       return true;
     }
+    case Kind::kLength:
+      return CheckBrushFactor("length", factor, brush, why);
+    case Kind::kClump:
+      return CheckBrushFactor("clump", factor, brush, why);
+    case Kind::kFrizz:
+      return CheckFrizz(frizz_amplitude, brush, why);
   }
   return Fail(why, "operation: unknown kind");
 }
@@ -1088,6 +1415,10 @@ bool ApplyOperation(StyledHair* state, const StyleOperation& operation, const Ba
   const StyleOperation& op = operation;
   switch (op.kind) {
     case StyleOperation::Kind::kCurl:
+      if (op.curl_brushed) {
+        return CurlBrush(state, op.curl_radius, op.curl_pitch, op.curl_brush, op.selection, batch,
+                         report, why);
+      }
       return Curl(state, op.curl_radius, op.curl_pitch, op.selection, batch, report, why);
     case StyleOperation::Kind::kWet:
       return Wet(state, op.wet, batch, report, why, op.selection);
@@ -1102,6 +1433,12 @@ bool ApplyOperation(StyledHair* state, const StyleOperation& operation, const Ba
       return Sculpt(state, op.sculpt, op.selection, batch, report, why);
     case StyleOperation::Kind::kPuff:
       return Puff(state, op.puff_angle, op.puff_brush, op.selection, batch, report, why);
+    case StyleOperation::Kind::kLength:
+      return LengthBrush(state, op.factor, op.brush, op.selection, batch, report, why);
+    case StyleOperation::Kind::kClump:
+      return ClumpBrush(state, op.factor, op.brush, op.selection, report, why);
+    case StyleOperation::Kind::kFrizz:
+      return FrizzBrush(state, op.frizz_amplitude, op.brush, op.selection, report, why);
   }
   return Fail(why, "operation: unknown kind");
 }

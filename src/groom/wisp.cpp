@@ -359,9 +359,31 @@ void AppendWisp(const FramedCentreline& master, const CrossSection& section, dou
 HairCurves GenerateWisps(const std::vector<FramedCentreline>& masters,
                          const std::vector<CrossSection>& sections, const WispOptions& options,
                          std::uint64_t seed, const Obstacle* obstacle, std::string* why,
-                         const std::vector<double>* wisp_radii) {
+                         const std::vector<double>* wisp_radii,
+                         const std::vector<WispOptions>* per_master_options) {
   // Validate everything before writing anything.
   if (!options.IsValid(why)) return {};
+  if (per_master_options) {
+    if (per_master_options->size() != masters.size()) {
+      Fail(why, "per_master_options: expected one per master (" + std::to_string(masters.size()) +
+                    "), got " + std::to_string(per_master_options->size()));
+      return {};
+    }
+    for (size_t i = 0; i < per_master_options->size(); ++i) {
+      const WispOptions& o = (*per_master_options)[i];
+      std::string reason;
+      if (!o.IsValid(&reason)) {
+        Fail(why, "per_master_options[" + std::to_string(i) + "]: " + reason);
+        return {};
+      }
+      if (o.strands_per_wisp != options.strands_per_wisp ||
+          o.points_per_strand != options.points_per_strand) {
+        Fail(why, "per_master_options[" + std::to_string(i) +
+                      "]: expected the strands_per_wisp and points_per_strand of the options");
+        return {};
+      }
+    }
+  }
   if (wisp_radii) {
     if (wisp_radii->size() != masters.size()) {
       Fail(why, "wisp_radii: expected one per master (" + std::to_string(masters.size()) +
@@ -411,9 +433,11 @@ HairCurves GenerateWisps(const std::vector<FramedCentreline>& masters,
                     [&](const tbb::blocked_range<size_t>& range) {
                       for (size_t i = range.begin(); i != range.end(); ++i) {
                         const CrossSection& section = sections.size() == 1 ? sections[0] : sections[i];
+                        const WispOptions& o =
+                            per_master_options ? (*per_master_options)[i] : options;
                         const double radius = wisp_radii ? (*wisp_radii)[i]
-                                                         : ResolveWispRadius(masters[i], section, options);
-                        WriteWisp(masters[i], section, radius, options, WispSeed(seed, i), obstacle,
+                                                         : ResolveWispRadius(masters[i], section, o);
+                        WriteWisp(masters[i], section, radius, o, WispSeed(seed, i), obstacle,
                                   curves.point_counts.data() + i * n,
                                   curves.points.data() + i * n * m,
                                   curves.widths.data() + i * n * m,

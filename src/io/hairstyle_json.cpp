@@ -486,9 +486,28 @@ bool ParseSelection(Reader& reader, const json& operation, const std::string& op
   return true;
 }
 
+bool ParseBrushFields(Reader& reader, const json& object, const std::string& path, Brush* brush);
+
 bool ParseCurlOperation(Reader& reader, const json& curl, const std::string& path,
                         StyleOperation* op) {
-  if (!reader.CheckFields(curl, path, {"radius", "pitch", "select"})) return false;
+  if (!reader.CheckFields(curl, path, {"radius", "pitch", "brush", "select"})) return false;
+  // "brush": {"centre": [x, y, z], "radius": r, ...brush fields}: a curl brush (CurlBrush).
+  const auto brush = curl.find("brush");
+  if (brush != curl.end()) {
+    const std::string brush_path = Member(path, "brush");
+    if (!brush->is_object()) {
+      return reader.Expected(brush_path, "an object {\"centre\": [x, y, z], \"radius\": r, ...}",
+                             *brush);
+    }
+    if (!reader.CheckFields(*brush, brush_path,
+                            {"centre", "radius", "strength", "falloff", "mirror"}) ||
+        !reader.ReadVector<3>(*brush, brush_path, "centre", "m, the brush centre", true,
+                              &op->curl_brush.centre) ||
+        !ParseBrushFields(reader, *brush, brush_path, &op->curl_brush)) {
+      return false;
+    }
+    op->curl_brushed = true;
+  }
   const auto radius = curl.find("radius");
   const char* expected_radius = "a finite number >= 0 (m) or \"inf\" (straighten)";
   if (radius == curl.end()) return reader.Missing(Member(path, "radius"), expected_radius);
@@ -673,6 +692,29 @@ bool ParsePuffOperation(Reader& reader, const json& puff, const std::string& pat
          ParseBrushFields(reader, puff, path, &op->puff_brush);
 }
 
+// "length" / "clump": {"factor": f, "centre": [x, y, z], "radius": r, ...brush fields, "select"};
+// "frizz": {"amplitude": a, ...}.
+bool ParseBrushOperation(Reader& reader, const json& object, const std::string& path,
+                         StyleOperation* op) {
+  static constexpr NumberRule kFactorRule{
+      "a finite number in (0, 10] (< 1 shortens / clumps, > 1 lengthens / spreads)",
+      [](double x) { return x > 0.0 && x <= kMaxBrushFactor; }};
+  static constexpr NumberRule kAmplitudeRule{
+      "a finite number in [0, 0.05] (m)",
+      [](double x) { return x >= 0.0 && x <= kMaxFrizzAmplitude; }};
+  const bool frizz = op->kind == StyleOperation::Kind::kFrizz;
+  const char* value = frizz ? "amplitude" : "factor";
+  return reader.CheckFields(object, path,
+                            {value, "centre", "radius", "strength", "falloff", "mirror", "select"}) &&
+         ParseSelection(reader, object, path, &op->selection) &&
+         (frizz ? reader.ReadNumber(object, path, "amplitude", kAmplitudeRule, true,
+                                    &op->frizz_amplitude)
+                : reader.ReadNumber(object, path, "factor", kFactorRule, true, &op->factor)) &&
+         reader.ReadVector<3>(object, path, "centre", "m, the brush centre", true,
+                              &op->brush.centre) &&
+         ParseBrushFields(reader, object, path, &op->brush);
+}
+
 bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOperation>* out) {
   const char* expected =
       "an array of operations [{\"curl\": {...}}, {\"wet\": {}}, {\"cut\": {...}}, ...]";
@@ -682,7 +724,7 @@ bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOper
   if (array) {
     const char* one_key =
         "an object with one key naming the operation (\"curl\", \"wet\", \"dry\", \"cut\", "
-        "\"grow\", \"sculpt\", \"puff\")";
+        "\"grow\", \"sculpt\", \"puff\", \"length\", \"clump\", \"frizz\")";
     for (size_t i = 0; i < array->size(); ++i) {
       const json& element = (*array)[i];
       const std::string path = Element("operations", i);
@@ -696,7 +738,7 @@ bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOper
       using Kind = StyleOperation::Kind;
       bool known = false;
       for (Kind kind : {Kind::kCurl, Kind::kWet, Kind::kDry, Kind::kCut, Kind::kGrow,
-                        Kind::kSculpt, Kind::kPuff}) {
+                        Kind::kSculpt, Kind::kPuff, Kind::kLength, Kind::kClump, Kind::kFrizz}) {
         if (name == OperationName(kind)) {
           op.kind = kind;
           known = true;
@@ -705,7 +747,8 @@ bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOper
       if (!known) {
         return reader.Fail(op_path,
                            "unknown operation (expected \"curl\", \"wet\", \"dry\", "
-                           "\"cut\", \"grow\", \"sculpt\" or \"puff\")");
+                           "\"cut\", \"grow\", \"sculpt\", \"puff\", \"length\", "
+                           "\"clump\" or \"frizz\")");
       }
       if (!value.is_object()) return reader.Expected(op_path, "an object", value);
       bool ok = true;
@@ -731,6 +774,11 @@ bool ParseOperations(Reader& reader, const json& document, std::vector<StyleOper
           break;
         case Kind::kPuff:
           ok = ParsePuffOperation(reader, value, op_path, &op);
+          break;
+        case Kind::kLength:
+        case Kind::kClump:
+        case Kind::kFrizz:
+          ok = ParseBrushOperation(reader, value, op_path, &op);
           break;
       }
       if (!ok) return false;

@@ -8,7 +8,7 @@ inside one frame, as on a slow machine). Every value is set by mouse or keyboard
 
 usage: drive_ui.py STUDIO RINGLET HAIRSTYLE WORKDIR SECTION
 SECTION: sliders (defects 1 and 6), keys (3, 4, 6, 7), export (2), sculpt (the comb and puff
-brushes) or view (the view that keeps up: the opening view, view keys, orbit with a tool on, headlight, preview density, the resizable
+brushes), brushes (length, clump, frizz) or view (the view that keeps up: the opening view, view keys, orbit with a tool on, headlight, preview density, the resizable
 panel). With STUDIO_SHOTS=DIR set, the view section copies its screenshots (F12) there.
 """
 import json
@@ -635,6 +635,85 @@ def sculpt():
     check(same, "the combed and puffed hair: Export is `ringlet style`'s strands.hair (cmp)")
 
 
+def brushes():
+    # The length, clump, frizz and curl brushes (issue 26): a click on the hair with each tool is one
+    # operation of the document at the hair under the cursor, with the panel's brush and mirror;
+    # Shift inverts (lengthen, unclump, smooth). `ringlet style` of the saved file reports that
+    # each changed masters and writes Export's bytes.
+    xdo("key", "3")  # the right side of the head: the hair hangs in view
+    r = quiet()
+    tips = [t for t in r["master_tips_on_screen"]
+            if t and PANEL + 80 < t[0] < 1200 and 80 < t[1] < 720]
+    check(len(tips) > 0, f"hair tips in the view: {len(tips)}")
+    if not tips:
+        return
+    tip = max(tips, key=lambda t: t[1])
+    hx, hy = r["head_on_screen"]
+    clicks = (("sculpt.length", None, tip, "length", "factor", 0.8),
+              ("sculpt.length", "shift", None, "length", "factor", 1 / 0.8),
+              ("sculpt.clump", None, None, "clump", "factor", 0.6),
+              ("sculpt.clump", "shift", None, "clump", "factor", 1 / 0.6),
+              ("sculpt.frizz", None, None, "frizz", "amplitude", 0.003),
+              ("sculpt.curl", None, None, "curl", "radius", 0.008))
+    tool = None
+    for count, (name, modifier, at, kind, key, value) in enumerate(clicks, 1):
+        if name != tool:
+            click(*centre(name))
+            r = quiet()
+            tool = name
+            check(r["sculpt_tool"] == {"sculpt.length": 4, "sculpt.clump": 5,
+                                       "sculpt.frizz": 6, "sculpt.curl": 7}[name],
+                  f"{kind} chosen by its radio button: tool {r['sculpt_tool']}")
+        history = len(report()["history"])
+        x, y = (at[0], at[1]) if at else (hx, hy - 40)
+        xdo("mousemove", int(round(x)), int(round(y)))
+        time.sleep(2 * FRAME)
+        if modifier:
+            xdo("keydown", modifier)
+            time.sleep(FRAME)
+        xdo("click", 1)
+        if modifier:
+            time.sleep(FRAME)
+            xdo("keyup", modifier)
+        wait(lambda r: len(r["history"]) > history, f"the {kind} click")
+        settle()
+        ops = report()["document_operations"]
+        op = ops[-1].get(kind) if ops else None
+        # The curl brush's own fields are in "brush" (its "radius" is the helix's).
+        brush = (op.get("brush") if kind == "curl" else op) if op else None
+        check(op is not None and brush is not None and abs(op[key] - value) < 1e-9 and
+              brush.get("mirror") is True and abs(brush["radius"] - 0.03) < 1e-7 and
+              len(ops) == count,
+              f"a {'Shift-' if modifier else ''}click: one {kind} operation, {key} {value:.4g}: "
+              f"{ops[-1] if ops else None}")
+        if op and at:
+            near = math.dist(op["centre"], at[2:5])
+            check(near <= 0.03 + 1e-9, f"the {kind} brush on the hair under the cursor: "
+                  f"{near * 1000:.1f} mm from the tip clicked")
+    shot("studio_brushes")
+    # The file replays: `ringlet style` of the saved document writes Export's bytes, and each
+    # brush changed some masters.
+    path = os.path.join(WORK, "export.hair")
+    type_into("export_path", "export.hair")
+    click(*centre("Export"))
+    wait(lambda r: os.path.exists(path), "export.hair")
+    saved = os.path.join(WORK, "brushed.json")
+    type_into("save_path", "brushed.json")
+    click(*centre("Save"))
+    wait(lambda r: os.path.exists(saved) and not r["modified"], "the save")
+    out = os.path.join(WORK, "styled")
+    run = subprocess.run([RINGLET, "style", saved, "-o", out, "--formats", "hair,json"],
+                         check=True, capture_output=True, text=True)
+    with open(os.path.join(out, "masters.json")) as f:
+        done = json.load(f)["style"]["operations"]
+    check([o["name"] for o in done] == ["length", "length", "clump", "clump", "frizz", "curl"] and
+          all(o["strands"] > 0 for o in done),
+          "the replay: each brush changed masters: " +
+          ", ".join(f"{o['name']} {o['strands']}" for o in done))
+    same = subprocess.run(["cmp", path, os.path.join(out, "strands.hair")]).returncode == 0
+    check(same, "the brushed hair: Export is `ringlet style`'s strands.hair (cmp)")
+
+
 os.chdir(WORK)
 extra = ["--preview-segments", "1000"] if SECTION == "view" else []
 studio = subprocess.Popen([STUDIO, HAIRSTYLE, "--report", REPORT, "--size", "1280x800",
@@ -646,5 +725,5 @@ print(f"opened and solved in {time.time() - T0:.1f} s: {r['strands']} strands; "
 xdo("mousemove", 900, 400)  # the pointer over the window: it has the keyboard focus
 time.sleep(2 * FRAME)
 {"sliders": sliders, "keys": keys, "export": export, "view": view,
- "sculpt": sculpt}[SECTION]()
+ "sculpt": sculpt, "brushes": brushes}[SECTION]()
 sys.exit(finish())
