@@ -176,7 +176,7 @@ def main():
         r = report()
         samples.append((r["segments_drawn"], r["draw_seconds"], r["preview_budget"],
                         r.get("frame_cpu_seconds", 0.0)))
-        if ARGS.shots and k == 60:
+        if ARGS.shots and k == 20:
             xdo("key", "F12")
     elapsed = time.time() - t
     frames = report()["frame"] - frame0
