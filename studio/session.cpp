@@ -631,6 +631,7 @@ bool Session::Poll() {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!f.error.empty()) {
       last_error_ = history_[f.entry].label + ": " + f.error;
+      preview_.reset();  // the failed solve's masters are not shown any more
       continue;
     }
     last_error_.clear();

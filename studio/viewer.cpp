@@ -533,6 +533,8 @@ void Viewer::SetPreview(const std::shared_ptr<const HairState>& preview) {
     body_ = body;
     UploadBody(*body_);
   }
+  // Another file's masters: the box starts again (the hair on the GPU is the old file's).
+  if (!hair_ || hair_->styled.style.body.get() != body) bounds_.setEmpty();
   ExtendBounds(c);
 }
 
