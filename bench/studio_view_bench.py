@@ -6,12 +6,17 @@ usage (from the repository root; xvfb-run gives it an X server with Mesa's llvmp
   xvfb-run -a -s "-screen 0 1280x800x24" python3 bench/studio_view_bench.py \
       build/studio/ringlet-studio examples/hairstyles/wavy.json [--shots DIR] \
       [--perf-open FILE] [--perf-orbit FILE] [--perf-call-graph fp|dwarf] [--json FILE]
-      [--orbit-seconds S] [--timeout S]
+      [--orbit-seconds S] [--timeout S] [--no-edit]
 
   --shots DIR        F12 screenshots of the opened view and of the orbit, copied to DIR
   --perf-open FILE   `perf record` the studio from launch to the first picture of hair
   --perf-orbit FILE  `perf record` the studio during the orbit
   --json FILE        the numbers as JSON (wall times, the studio's CPU times, load averages)
+
+Phases: launch to the first frame, the first picture of hair (the masters being solved), the
+solved hair, full density; an orbit (left drag) for --orbit-seconds; 10 s idle; then (unless
+--no-edit) the "length, front" slider dragged +0.03 m: the re-solved masters streamed to the
+view, then the hair.
 
 Every number is printed with the studio's CPU time (user + system, /proc/PID/stat) beside the
 wall time: on a shared machine the wall times measure the load, the CPU times the studio. The
@@ -43,6 +48,8 @@ def parse_args():
                    help="perf's --call-graph (fp, or dwarf for the frames of Mesa and libc)")
     p.add_argument("--json")
     p.add_argument("--orbit-seconds", type=float, default=5.0)
+    p.add_argument("--no-edit", action="store_true",
+                   help="skip the last phase (a slider dragged: the edit's masters streamed)")
     p.add_argument("--timeout", type=float, default=600.0,
                    help="seconds allowed for each phase (default 600: a loaded machine)")
     a = p.parse_args()
@@ -119,6 +126,57 @@ def perf_start(path, pid):
 def perf_stop(perf):
     perf.send_signal(signal.SIGINT)
     perf.wait(60)
+
+
+def edit(studio, out):
+    """A slider dragged through the X server (length, front: 0.05-0.8 m, from its value to
+    +0.03 m): the time from the release to the edit's first masters on screen (streamed while
+    they are re-solved, Session::Preview; none when the solve takes less than the preview
+    period), to the hair, and to full density."""
+    r = report()
+    rect = r["widgets"].get("hair.length.front")
+    value = r["document"].get("hair", {}).get("length", {})
+    if not rect or not isinstance(value, dict) or "front" not in value:
+        print("edit: skipped (no hair.length.front slider)", flush=True)
+        return
+    width = r["field_width"]
+    x_of = lambda v: rect[0] + 7 + (v - 0.05) / 0.75 * (width - 14)
+    y = int((rect[1] + rect[3]) / 2)
+    cursor = r["history_cursor"]
+    x0, x1 = x_of(value["front"]), x_of(value["front"] + 0.03)
+    xdo("mousemove", int(round(x0)), y)
+    time.sleep(0.3)
+    xdo("mousedown", 1)
+    time.sleep(0.2)
+    xdo("mousemove", int(round((x0 + x1) / 2)), y)
+    time.sleep(0.2)
+    xdo("mousemove", int(round(x1)), y)
+    time.sleep(0.3)
+    cpu0 = cpu_seconds(studio.pid)
+    xdo("mouseup", 1)
+    t = time.time()
+    first_masters = None
+    end = time.time() + ARGS.timeout
+    while time.time() < end:
+        r = report()
+        if r["history_cursor"] > cursor and r.get("masters_preview") and first_masters is None:
+            first_masters = (time.time() - t, cpu_seconds(studio.pid) - cpu0)
+        if (r["history_cursor"] > cursor and not r["busy"] and r["up_to_date"] and
+                r["strands"] > 0):
+            break
+        time.sleep(0.01)
+    else:
+        raise SystemExit("timed out waiting for the edit's hair")
+    hair = (time.time() - t, cpu_seconds(studio.pid) - cpu0)
+    stats = r["history"][-1]
+    until(settled, "the edit's full-density picture", studio)
+    full = (time.time() - t, cpu_seconds(studio.pid) - cpu0)
+    out["edit"] = {"what": stats, "first_masters": first_masters, "hair": hair, "full": full}
+    masters = (f"{first_masters[0]:.2f} s (CPU {first_masters[1]:.2f} s)" if first_masters
+               else "none (solved within the preview period)")
+    print(f"edit ({stats}): the re-solved masters on screen {masters}; the hair "
+          f"{hair[0]:.2f} s (CPU {hair[1]:.2f} s); full density {full[0]:.2f} s "
+          f"(CPU {full[1]:.2f} s) after the release", flush=True)
 
 
 def main():
@@ -208,6 +266,8 @@ def main():
                    "percent": cpu * 10.0}
     print(f"idle: {out['idle']['frames']} frames, {cpu:.2f} s CPU in 10 s "
           f"({cpu * 10:.1f} % of a core)", flush=True)
+    if not ARGS.no_edit:
+        edit(studio, out)
     out["load_end"] = loadavg()
     print("load average at the end:", out["load_end"], flush=True)
     studio.terminate()
