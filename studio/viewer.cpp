@@ -519,7 +519,9 @@ void Viewer::SetPreview(const std::shared_ptr<const HairState>& preview) {
     }
     first += count;
   }
+  const long hair_upload = last_upload_bytes_;  // LastUploadBytes is the hair's
   UploadStrands(&preview_gl_, c, indices);
+  last_upload_bytes_ = hair_upload;
   preview_gl_.master_indices = preview_gl_.indices;
   const std::vector<float> flags(c.points.size(), 1.0f);
   glBindVertexArray(preview_gl_.vao);
