@@ -491,13 +491,16 @@ void Session::Progress(int* done, int* total, std::string* what) const {
 // The worker
 
 Session::PreviewPublisher::PreviewPublisher(Session* session, std::uint64_t generation,
-                                            double seconds)
+                                            double seconds, bool eager)
     : session_(session),
       generation_(generation),
       seconds_(seconds),
+      eager_(eager),
       last_(std::chrono::steady_clock::now()) {}
 
-bool Session::PreviewPublisher::Due() const { return SecondsSince(last_) >= seconds_; }
+bool Session::PreviewPublisher::Due() const {
+  return eager_ || SecondsSince(last_) >= seconds_;
+}
 
 template <class Shape>
 void Session::PreviewPublisher::Publish(const Hairstyle& style, const HairstyleMasters& masters,
@@ -548,10 +551,14 @@ void Session::PreviewPublisher::Send(const Hairstyle& style, const HairstyleMast
   preview->strands_id = ++preview_serial;
   preview->strands = std::move(curves);
   if (session_->preview_listener_) session_->preview_listener_(preview);
-  std::lock_guard<std::mutex> lock(session_->mutex_);
-  session_->preview_ = std::move(preview);
-  session_->preview_generation_ = generation_;
+  {
+    std::lock_guard<std::mutex> lock(session_->mutex_);
+    session_->preview_ = std::move(preview);
+    session_->preview_generation_ = generation_;
+  }
   last_ = std::chrono::steady_clock::now();
+  eager_ = false;
+  if (session_->wake_ui_) session_->wake_ui_();
 }
 
 void Session::ShowOrSchedule() {
@@ -613,6 +620,7 @@ void Session::WorkerLoop() {
       }
     }
     idle_.notify_all();
+    if (wake_ui_) wake_ui_();
   }
 }
 
@@ -681,7 +689,10 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
     std::lock_guard<std::mutex> lock(mutex_);
     progress_what_ = what;
   };
-  PreviewPublisher preview(this, job.generation, preview_seconds_);
+  // A fresh file (nothing solved before, nothing on screen): its first masters are shown as
+  // soon as the first (smaller) block is solved.
+  const bool fresh = candidates.empty();
+  PreviewPublisher preview(this, job.generation, preview_seconds_, fresh);
 
   // 1. The closest solved entry with the same parameters whose operations are a prefix of the
   //    target's: only the remaining operations run, from its equilibrium.
@@ -787,10 +798,10 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
     };
     // Blocks of masters between cancellation checks (the same solves as one SolveStrands call).
     set_what("solving masters");
-    const size_t block = 32;
-    for (size_t begin = 0; begin < todo.size(); begin += block) {
+    // The first block of a fresh file is 8 masters: its first picture sooner.
+    for (size_t begin = 0, end = 0; begin < todo.size(); begin = end) {
       if (cancel.load()) return false;
-      const size_t end = std::min(todo.size(), begin + block);
+      end = std::min(todo.size(), begin + (fresh && begin == 0 ? 8 : 32));
       std::vector<StrandModel> models;
       std::vector<VecX> warm;
       for (size_t k = begin; k < end; ++k) {

@@ -107,6 +107,9 @@ class Session {
   void SetThreads(int threads) { threads_ = threads; }
   /// The least time between two Preview() publications (s; 0.3 by default, 0 in tests).
   void SetPreviewSeconds(double seconds) { preview_seconds_ = seconds; }
+  /// Called on the worker thread after each Preview() publication and each finished solve, so
+  /// that a waiting UI wakes at once (the studio: glfwPostEmptyEvent). Set before the first edit.
+  void SetWake(std::function<void()> wake) { wake_ui_ = std::move(wake); }
   /// Called on the worker thread with each Preview() publication as it is made (tests; set
   /// before the edit).
   void SetPreviewListener(std::function<void(const std::shared_ptr<const HairState>&)> listener) {
@@ -225,7 +228,8 @@ class Session {
   // the job started, so that a quick edit publishes nothing), the masters' polylines.
   class PreviewPublisher {
    public:
-    PreviewPublisher(Session* session, std::uint64_t generation, double seconds);
+    // eager: the first publication is due at once (a fresh file: nothing is on screen yet).
+    PreviewPublisher(Session* session, std::uint64_t generation, double seconds, bool eager);
     // Whether a publication is due now.
     bool Due() const;
     // The masters of `masters`: shape(i, &points) fills master i's centreline (empty: a stub at
@@ -241,6 +245,7 @@ class Session {
     Session* session_;
     std::uint64_t generation_;
     double seconds_;
+    bool eager_;
     std::chrono::steady_clock::time_point last_;
     std::vector<std::vector<Vec3f>> lines_;  // per master, the polyline of the last publication
     std::vector<char> final_;
@@ -278,6 +283,7 @@ class Session {
   int threads_ = 0;
   double preview_seconds_ = 0.3;
   std::function<void(const std::shared_ptr<const HairState>&)> preview_listener_;
+  std::function<void()> wake_ui_;
 
   // Worker state, guarded by mutex_.
   mutable std::mutex mutex_;
