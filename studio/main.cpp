@@ -36,6 +36,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <future>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -45,6 +48,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "ringlet/atomic_file.h"
@@ -154,7 +158,8 @@ struct App {
   OrbitCamera camera;
   HairLook look;
   GLFWwindow* window = nullptr;
-  std::shared_ptr<const HairState> uploaded;
+  std::shared_ptr<const HairState> uploaded, previewed;  // given to the viewer
+  std::pair<const HairState*, const HairState*> viewer_hair{nullptr, nullptr};
   std::string message;  // the last error or notice, shown in the panel
   float panel_width = 0.0f;  // window coordinates; 0 until the first frame (kPanelEm)
   float panel_content_width = 0.0f, panel_inner_width = 0.0f;  // --report
@@ -233,15 +238,43 @@ struct App {
   // --report: after each frame, the widgets' rectangles and the document as JSON.
   std::string report_path;
   std::string last_report;
+  // Startup phases (wall and process CPU seconds since launch) and the last frame's CPU time
+  // (the process's, llvmpipe's threads included), for the report and the bench.
+  nlohmann::ordered_json startup = nlohmann::ordered_json::object();
+  double frame_cpu_seconds = 0.0;
+  bool first_hair_timed = false;
+  int window_size[2] = {0, 0}, framebuffer_size[2] = {0, 0};  // RefreshSizes
+  bool sizes_read = false;
   long frames = 0;
   nlohmann::ordered_json widgets = nlohmann::ordered_json::object();
 };
 
+// The window's size and its framebuffer's as of this frame (read at the start of each frame,
+// RefreshSizes): on X11 each glfwGet*Size is a round trip to the server (XGetWindowAttributes),
+// and a frame asked for several per widget and per master tip of the --report.
+void RefreshSizes(App* app) {
+  glfwGetWindowSize(app->window, &app->window_size[0], &app->window_size[1]);
+  glfwGetFramebufferSize(app->window, &app->framebuffer_size[0], &app->framebuffer_size[1]);
+  app->sizes_read = true;
+}
+
+void WindowSize(App* app, int* w, int* h) {
+  if (!app->sizes_read) RefreshSizes(app);
+  *w = app->window_size[0];
+  *h = app->window_size[1];
+}
+
+void FramebufferSize(App* app, int* w, int* h) {
+  if (!app->sizes_read) RefreshSizes(app);
+  *w = app->framebuffer_size[0];
+  *h = app->framebuffer_size[1];
+}
+
 // The panel's width in framebuffer pixels (the 3D view is to its right).
 int PanelPixels(App* app) {
   int ww, wh, fw, fh;
-  glfwGetWindowSize(app->window, &ww, &wh);
-  glfwGetFramebufferSize(app->window, &fw, &fh);
+  WindowSize(app, &ww, &wh);
+  FramebufferSize(app, &fw, &fh);
   return static_cast<int>(app->panel_width * (ww > 0 ? static_cast<float>(fw) / ww : 1.0f));
 }
 
@@ -251,6 +284,24 @@ void Report(App* app, const std::string& text) {
 }
 
 void Edited(App* app) { app->last_edit_time = glfwGetTime(); }
+
+// User + system CPU time of the process (all threads: the solver's, llvmpipe's), s.
+double ProcessCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// Wall time since the process started (s).
+double SinceLaunch() {
+  static const auto launch = std::chrono::steady_clock::now();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - launch).count();
+}
+
+// Records a startup phase's end: [wall, CPU] seconds since launch (the report's "startup").
+void Phase(App* app, const char* name) {
+  app->startup[name] = {SinceLaunch(), ProcessCpuSeconds()};
+}
 
 void LoadLook(App* app, const std::string& path) {
   RenderSettings settings;
@@ -270,9 +321,10 @@ void LoadLook(App* app, const std::string& path) {
   app->look.colour = (2.0f * PathTracedHairColour(settings, 0.0)).cwiseMax(0.01f).cwiseMin(1.0f);
 }
 
-bool Open(App* app, const std::string& path) {
+bool Open(App* app, const Session::File& file) {
+  const std::string& path = file.path;
   std::string error;
-  if (!app->session.Open(path, &error)) {
+  if (!app->session.Open(file, &error)) {
     Report(app, error);
     return false;
   }
@@ -284,6 +336,8 @@ bool Open(App* app, const std::string& path) {
   Edited(app);
   return true;
 }
+
+bool Open(App* app, const std::string& path) { return Open(app, Session::Read(path)); }
 
 void AddOperation(App* app, const StyleOperation& op) {
   std::string error;
@@ -349,7 +403,7 @@ CutRegion GizmoRegion(const App* app) {
 // distance one pixel spans at the camera's target, so the plane follows the mouse.
 void DragGizmo(App* app, float dx, float dy, bool shift) {
   int w, h;
-  glfwGetFramebufferSize(app->window, &w, &h);
+  FramebufferSize(app, &w, &h);
   const float metres_per_pixel =
       2.0f * app->camera.distance * std::tan(0.5f * app->camera.fov) / std::max(1, h);
   if (app->cut_tool == 1) {
@@ -406,14 +460,24 @@ void Sync(App* app) {
     app->last_upload = glfwGetTime() - upload_start;
     app->viewer.SetBrush(app->session.brush);
     app->uploaded = hair;
-    if (!app->framed && hair) {
+    if (app->last_edit_time > 0.0 && hair) {
+      app->last_latency = glfwGetTime() - app->last_edit_time;
+    }
+  }
+  // While a solve runs: the masters as they are solved (Session::Preview; a fresh file's, or an
+  // edit's that takes longer than the preview period), drawn instead of the hair.
+  const std::shared_ptr<const HairState> preview = app->session.Preview();
+  if (preview != app->previewed) {
+    app->viewer.SetPreview(preview);
+    app->previewed = preview;
+  }
+  if (app->viewer_hair != std::pair{hair.get(), preview.get()}) {
+    app->viewer_hair = {hair.get(), preview.get()};
+    if (!app->framed && (hair || preview)) {
       OpeningView(app);
       app->framed = true;
     }
     app->last_motion = glfwGetTime();  // new hair: a preview first, full density when still
-    if (app->last_edit_time > 0.0 && hair && hair == app->session.Hair()) {
-      app->last_latency = glfwGetTime() - app->last_edit_time;
-    }
     app->redraw_frames = std::max(app->redraw_frames, 2);
   }
   const std::string error = app->session.LastError();
@@ -422,7 +486,7 @@ void Sync(App* app) {
 
 void Brush(App* app, float x, float y, bool erase) {
   int w, h;
-  glfwGetFramebufferSize(app->window, &w, &h);
+  FramebufferSize(app, &w, &h);
   const std::vector<int> picked =
       app->viewer.PickRoots(app->camera, PanelPixels(app), w, h, x, y, app->brush_radius);
   std::vector<int>& brush = app->session.brush;
@@ -449,7 +513,7 @@ bool StartRender(App* app) {
   r.Stop();
   RenderSettings settings = app->render_settings;
   int fw, fh;
-  glfwGetFramebufferSize(app->window, &fw, &fh);
+  FramebufferSize(app, &fw, &fh);
   const int view_w = std::max(1, fw - PanelPixels(app)), view_h = std::max(1, fh);
   settings.options.width = r.width;
   settings.options.height =
@@ -617,7 +681,8 @@ void DoGuarded(App* app, Guarded action, const std::string& path) {
     case Guarded::kNew:
       app->session.New();
       app->viewer.SetHair(nullptr);
-      app->uploaded = nullptr;
+      app->viewer.SetPreview(nullptr);
+      app->uploaded = app->previewed = nullptr;
       app->viewer.SetBrush({});
       app->message = "new: open a hairstyle to start";
       break;
@@ -848,7 +913,7 @@ void PadRows(float top, int rows) {
 
 void Panel(App* app) {
   int w, h;
-  glfwGetWindowSize(app->window, &w, &h);
+  WindowSize(app, &w, &h);
   // Resizable by its right edge (ImGui's window border), the height the window's.
   const float em = ImGui::GetFontSize();
   if (app->panel_width <= 0.0f) app->panel_width = kPanelEm * em;
@@ -1337,8 +1402,8 @@ void FeedImGui(App* app, const std::vector<InputEvent>& events) {
 // Framebuffer pixels per window coordinate.
 float PixelScale(App* app) {
   int ww, wh, fw, fh;
-  glfwGetWindowSize(app->window, &ww, &wh);
-  glfwGetFramebufferSize(app->window, &fw, &fh);
+  WindowSize(app, &ww, &wh);
+  FramebufferSize(app, &fw, &fh);
   return ww > 0 ? static_cast<float>(fw) / ww : 1.0f;
 }
 
@@ -1349,7 +1414,7 @@ float PixelScale(App* app) {
 // by inverting the view's projection (the columns right of the panel, as Viewer::Draw).
 Ray ViewRay(App* app, double x, double y) {
   int fw, fh;
-  glfwGetFramebufferSize(app->window, &fw, &fh);
+  FramebufferSize(app, &fw, &fh);
   const float scale = PixelScale(app);
   const int x0 = PanelPixels(app);
   const int width = std::max(1, fw - x0), height = std::max(1, fh);
@@ -1367,7 +1432,7 @@ Ray ViewRay(App* app, double x, double y) {
 // The window point (window coordinates) where the world point p is drawn, if in front.
 std::optional<ImVec2> ViewPoint(App* app, const Vec3& p) {
   int fw, fh;
-  glfwGetFramebufferSize(app->window, &fw, &fh);
+  FramebufferSize(app, &fw, &fh);
   const float scale = PixelScale(app);
   const int x0 = PanelPixels(app);
   const int width = std::max(1, fw - x0), height = std::max(1, fh);
@@ -1567,7 +1632,7 @@ void DrawSculptOverlay(App* app) {
   const ImVec2 cursor(static_cast<float>(app->cursor_x), static_cast<float>(app->cursor_y));
   if (cursor.x < app->panel_width) return;
   int fw, fh;
-  glfwGetFramebufferSize(app->window, &fw, &fh);
+  FramebufferSize(app, &fw, &fh);
   const float pixels = static_cast<float>(app->sculpt_radius_mm * 1e-3) /
                        (app->camera.distance * std::tan(0.5f * app->camera.fov)) * 0.5f *
                        static_cast<float>(fh) / PixelScale(app);
@@ -1592,7 +1657,7 @@ void ApplyDrag(App* app, double x, double y) {
     case ViewDrag::Mode::kPan: {
       // The scene follows the cursor: one pixel is the distance a pixel spans at the target.
       int fw, fh;
-      glfwGetFramebufferSize(app->window, &fw, &fh);
+      FramebufferSize(app, &fw, &fh);
       const float k = 2.0f * std::tan(0.5f * d.camera.fov) / static_cast<float>(std::max(1, fh));
       app->camera = d.camera;
       app->camera.Pan(-dx * scale * k, dy * scale * k);
@@ -1757,7 +1822,7 @@ void WriteReport(App* app) {
   const auto hair = s.Hair();
   r["strands"] = hair && hair->strands ? hair->strands->NumStrands() : 0;
   // The masters being solved are on screen (Session::Preview), not yet the hair.
-  r["masters_preview"] = app->uploaded && app->uploaded != hair;
+  r["masters_preview"] = app->previewed != nullptr;
   r["message"] = app->message;
   r["modified"] = s.Modified();
   r["document"] = s.CurrentDocument().parameters;
@@ -1777,8 +1842,8 @@ void WriteReport(App* app) {
                  {"target", {c.target.x(), c.target.y(), c.target.z()}}};
   // Where the centre of the hair and body box is drawn (window coordinates).
   int ww, wh, fw, fh;
-  glfwGetWindowSize(app->window, &ww, &wh);
-  glfwGetFramebufferSize(app->window, &fw, &fh);
+  WindowSize(app, &ww, &wh);
+  FramebufferSize(app, &fw, &fh);
   const int x0 = PanelPixels(app);
   const Eigen::Vector4f p =
       c.Projection(static_cast<float>(std::max(1, fw - x0)) / std::max(1, fh)) * c.View() *
@@ -1801,6 +1866,10 @@ void WriteReport(App* app) {
   r["refining"] = app->refining;
   r["preview_budget"] = app->preview_budget;
   r["draw_seconds"] = app->draw_seconds;
+  r["frame_cpu_seconds"] = app->frame_cpu_seconds;
+  r["lines"] = app->viewer.DrewLines();
+  r["body_triangles"] = {app->viewer.BodyTriangles(), app->viewer.CoarseBodyTriangles()};
+  r["startup"] = app->startup;
   r["cut_tool"] = app->cut_tool;
   r["plane_height"] = app->plane_height;
   r["brush"] = s.brush.size();
@@ -1827,9 +1896,22 @@ void WriteReport(App* app) {
   r["widgets"] = app->widgets;
   std::string text = r.dump(1);
   if (text == app->last_report) return;
-  std::string error;
-  if (!WriteFileAtomically(app->report_path, text + "\n", true, &error)) {
-    std::fprintf(stderr, "ringlet-studio: --report: %s\n", error.c_str());
+  // Replaced by a rename (readers never see half a file), without WriteFileAtomically's fsync:
+  // a report is read within the second, and the fsyncs held every frame.
+  const std::string temporary = app->report_path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text << "\n";
+    if (!out.flush()) {
+      std::fprintf(stderr, "ringlet-studio: --report: cannot write %s\n", temporary.c_str());
+      return;
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, app->report_path, ec);
+  if (ec) {
+    std::fprintf(stderr, "ringlet-studio: --report: %s: %s\n", app->report_path.c_str(),
+                 ec.message().c_str());
     return;
   }
   app->last_report = std::move(text);
@@ -1840,6 +1922,8 @@ bool Screenshot(App* app, const std::string& path, std::string* error);
 
 // One frame: sync, the events of the frame, panel, draw (the 3D view right of the panel).
 void Frame(App* app) {
+  const double cpu_start = ProcessCpuSeconds();
+  RefreshSizes(app);
   Sync(app);
   SyncRender(app);
   ImGui_ImplOpenGL3_NewFrame();
@@ -1857,7 +1941,7 @@ void Frame(App* app) {
                                           : std::nullopt);
   ImGui::Render();
   int w, h;
-  glfwGetFramebufferSize(app->window, &w, &h);
+  FramebufferSize(app, &w, &h);
   // The preview density while the camera moves (a drag, keys, the wheel), a solve runs, or new
   // hair has just arrived; full density once still for kStillSeconds.
   const double now = glfwGetTime();
@@ -1913,6 +1997,12 @@ void Frame(App* app) {
     }
   }
   ++app->frames;
+  app->frame_cpu_seconds = ProcessCpuSeconds() - cpu_start;
+  if (!app->first_hair_timed && app->viewer.DrawnSegments() > 0) {
+    app->first_hair_timed = true;
+    Phase(app, "first_hair_frame");
+  }
+  if (app->frames == 1) Phase(app, "first_frame");
   WriteReport(app);
   if (app->min_frame_seconds > 0.0) {
     std::this_thread::sleep_for(std::chrono::duration<double>(app->min_frame_seconds));
@@ -1923,7 +2013,7 @@ void Frame(App* app) {
 // -> the writer's sRGB encoding: the bytes survive).
 bool Screenshot(App* app, const std::string& path, std::string* error) {
   int w, h;
-  glfwGetFramebufferSize(app->window, &w, &h);
+  FramebufferSize(app, &w, &h);
   std::vector<unsigned char> bytes(static_cast<size_t>(w) * h * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadBuffer(GL_BACK);
@@ -2300,6 +2390,7 @@ int RunScript(App* app, const std::string& script_path, const std::string& final
 }
 
 int Main(int argc, char** argv) {
+  SinceLaunch();  // the clock of the report's startup phases
   std::string hairstyle, script, screenshot, report;
   int width = 1280, height = 800;
   double min_frame_seconds = 0.0;
@@ -2357,6 +2448,14 @@ int Main(int argc, char** argv) {
                  "(or a --script)\n");
     return 1;
   }
+  // The file is read (and its body built: seconds for the head mesh's distance grid) on another
+  // thread while the window and GL start.
+  std::future<Session::File> reading;
+  if (!hairstyle.empty()) reading = std::async(std::launch::async, Session::Read, hairstyle);
+  nlohmann::ordered_json startup = nlohmann::ordered_json::object();
+  const auto phase = [&startup](const char* name) {
+    startup[name] = {SinceLaunch(), ProcessCpuSeconds()};
+  };
   if (!glfwInit()) {
     std::fprintf(stderr, "ringlet-studio: cannot initialise GLFW (no display?)\n");
     return 1;
@@ -2373,6 +2472,25 @@ int Main(int argc, char** argv) {
     return 1;
   }
   glfwMakeContextCurrent(window);
+  // A software renderer (Mesa's llvmpipe) rasterizes every sample of a multisampled window:
+  // 4x MSAA doubled the CPU time of a frame (docs/benchmarks.md). Without a GPU the window is
+  // made again without it (the still, full-density picture is drawn off screen without MSAA
+  // anyway: Viewer::DrawRefining).
+  const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  if (renderer && (std::strstr(renderer, "llvmpipe") || std::strstr(renderer, "softpipe") ||
+                   std::strstr(renderer, "swrast"))) {
+    glfwMakeContextCurrent(nullptr);
+    glfwDestroyWindow(window);
+    glfwWindowHint(GLFW_SAMPLES, 0);
+    window = glfwCreateWindow(width, height, "ringlet studio", nullptr, nullptr);
+    if (!window) {
+      std::fprintf(stderr, "ringlet-studio: cannot create an OpenGL 3.3 core window\n");
+      glfwTerminate();
+      return 1;
+    }
+    glfwMakeContextCurrent(window);
+  }
+  phase("window");
   glfwSwapInterval(script.empty() ? 1 : 0);
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
@@ -2398,6 +2516,9 @@ int Main(int argc, char** argv) {
   {
     App app;
     app.window = window;
+    // The worker wakes the waiting UI when it publishes masters or finishes a solve (instead of
+    // the UI's next look at it, up to 0.1 s later).
+    app.session.SetWake([] { glfwPostEmptyEvent(); });
     app.report_path = report;
     app.min_frame_seconds = script.empty() ? min_frame_seconds : 0.0;
     app.allow_preview = script.empty() && screenshot.empty();
@@ -2407,13 +2528,18 @@ int Main(int argc, char** argv) {
     glfwGetCursorPos(window, &app.cursor_x, &app.cursor_y);
     InstallCallbacks(window);
     std::string error;
+    phase("imgui");
+    app.startup = std::move(startup);
     if (!app.viewer.Init(&error)) {
       std::fprintf(stderr, "ringlet-studio: %s\n", error.c_str());
       code = 1;
     } else {
+      Phase(&app, "viewer");
       LoadLook(&app, "");
+      Phase(&app, "look");
       // A file that does not open ends the scripted and screenshot modes (with its message).
-      const bool opened = hairstyle.empty() || Open(&app, hairstyle);
+      const bool opened = hairstyle.empty() || Open(&app, reading.get());
+      Phase(&app, "open");
       if (!opened && (!script.empty() || !screenshot.empty())) code = 1;
       if (code == 0 && !script.empty()) {
         code = RunScript(&app, script, screenshot);

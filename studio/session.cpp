@@ -256,28 +256,47 @@ Session::~Session() {
   worker_.join();
 }
 
-bool Session::Open(const std::string& path, std::string* error) {
+Session::File Session::Read(const std::string& path) {
   // Read once (a regular file under the JSON size cap), checked by the library's reader first,
   // for the CLI's messages (syntax errors with line and column, fields by name, the nesting
   // limit); only then is the same text parsed again in order (nlohmann's recursive parser never
   // sees a document deeper than the reader's limit).
+  File file;
+  file.path = path;
   std::string text;
-  if (!ReadFile(path, &text, error)) return false;
+  if (!ReadFile(path, &text, &file.error)) return file;
   Hairstyle style;
   std::vector<StyleOperation> operations;
   const std::string base = std::filesystem::path(path).parent_path().string();
-  if (!ParseHairstyleText(text, base.empty() ? "." : base, &style, &operations, error)) {
-    *error = path + ": " + *error;
+  if (!ParseHairstyleText(text, base.empty() ? "." : base, &style, &operations, &file.error)) {
+    file.error = path + ": " + file.error;
+    return file;
+  }
+  file.json = ojson::parse(text, nullptr, false);
+  if (file.json.is_discarded() || !file.json.is_object()) {
+    file.error = path + ": not a JSON object";
+    return file;
+  }
+  file.body = style.body;
+  return file;
+}
+
+bool Session::Open(const File& file, std::string* error) {
+  if (!file.error.empty()) {
+    *error = file.error;
     return false;
   }
-  const ojson json = ojson::parse(text, nullptr, false);
-  if (json.is_discarded() || !json.is_object()) {
-    *error = path + ": not a JSON object";
+  const std::string directory = std::filesystem::path(file.path).parent_path().string();
+  // The body just read serves the document's parse and the worker's (a fresh read: the file
+  // may have changed since an earlier open).
+  const std::vector<CachedBodyEntry> kept = std::move(bodies_);
+  bodies_.clear();
+  RememberBody(file.json, directory, file.body);
+  if (!OpenDocument(file.json, directory, file.path, error)) {
+    bodies_ = kept;
     return false;
   }
-  std::string directory = std::filesystem::path(path).parent_path().string();
-  if (!OpenDocument(json, directory, path, error)) return false;
-  path_ = path;
+  path_ = file.path;
   return true;
 }
 
@@ -287,11 +306,12 @@ bool Session::OpenDocument(const ojson& json, const std::string& base_directory,
   std::vector<StyleOperation> operations;
   const nlohmann::json plain = json;
   std::string why;
-  if (!ParseHairstyle(plain, base_directory, &style, &why) ||
+  if (!ParseHairstyle(plain, base_directory, CachedBody(json, base_directory), &style, &why) ||
       !ParseStyleOperations(plain, &operations, &why)) {
     *error = name + ": " + why;
     return false;
   }
+  RememberBody(json, base_directory, style.body);
   Document document;
   document.parameters = json;
   document.parameters.erase("operations");
@@ -346,10 +366,12 @@ bool Session::SetParameter(const std::string& field, const ojson& value, std::st
   (*node)[keys.back()] = value;
   Hairstyle style;
   std::string why;
-  if (!ParseHairstyle(nlohmann::json(document.parameters), document.base_directory, &style, &why)) {
+  if (!ParseHairstyle(nlohmann::json(document.parameters), document.base_directory,
+                      CachedBody(document.parameters, document.base_directory), &style, &why)) {
     *error = why;
     return false;
   }
+  RememberBody(document.parameters, document.base_directory, style.body);
   PushEntry(std::move(document), "set " + field + " = " + value.dump());
   return true;
 }
@@ -387,6 +409,24 @@ bool Session::AddOperation(const StyleOperation& operation, std::string* error) 
   }
   PushEntry(std::move(document), label);
   return true;
+}
+
+std::shared_ptr<const Body> Session::CachedBody(const ojson& parameters,
+                                                const std::string& base_directory) const {
+  const auto it = parameters.find("body");
+  if (it == parameters.end()) return nullptr;
+  for (const CachedBodyEntry& e : bodies_) {
+    if (e.base_directory == base_directory && e.key == *it) return e.body;
+  }
+  return nullptr;
+}
+
+void Session::RememberBody(const ojson& parameters, const std::string& base_directory,
+                           std::shared_ptr<const Body> body) {
+  const auto it = parameters.find("body");
+  if (it == parameters.end() || !body || CachedBody(parameters, base_directory) == body) return;
+  bodies_.push_back(CachedBodyEntry{*it, base_directory, std::move(body)});
+  if (bodies_.size() > 4) bodies_.erase(bodies_.begin());
 }
 
 void Session::PushEntry(Document document, std::string label) {
@@ -451,7 +491,9 @@ bool Session::Busy() const {
 
 std::shared_ptr<const HairState> Session::Preview() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (shown_ || preview_generation_ != scheduled_generation_) return nullptr;
+  if (preview_generation_ != scheduled_generation_ || shown_generation_ == scheduled_generation_) {
+    return nullptr;
+  }
   return preview_;
 }
 
@@ -464,6 +506,77 @@ void Session::Progress(int* done, int* total, std::string* what) const {
 
 // ---------------------------------------------------------------------------------------------
 // The worker
+
+Session::PreviewPublisher::PreviewPublisher(Session* session, std::uint64_t generation,
+                                            double seconds, bool eager)
+    : session_(session),
+      generation_(generation),
+      seconds_(seconds),
+      eager_(eager),
+      last_(std::chrono::steady_clock::now()) {}
+
+bool Session::PreviewPublisher::Due() const {
+  return eager_ || SecondsSince(last_) >= seconds_;
+}
+
+template <class Shape>
+void Session::PreviewPublisher::Publish(const Hairstyle& style, const HairstyleMasters& masters,
+                                        const Shape& shape) {
+  const size_t n = masters.models.size();
+  if (lines_.size() != n) {
+    lines_.assign(n, {});
+    final_.assign(n, 0);
+  }
+  std::vector<Vec3> points;
+  for (size_t i = 0; i < n; ++i) {
+    if (final_[i]) continue;
+    points.clear();
+    final_[i] = shape(static_cast<int>(i), &points) ? 1 : 0;
+    lines_[i].resize(points.size());
+    for (size_t k = 0; k < points.size(); ++k) lines_[i][k] = points[k].cast<float>();
+  }
+  Send(style, masters);
+}
+
+void Session::PreviewPublisher::PublishStyled(const StyledHair& styled) {
+  std::fill(final_.begin(), final_.end(), 0);
+  Publish(styled.style, styled.masters, [&](int i, std::vector<Vec3>* points) {
+    *points = SampleCentreline(styled.masters.models[i], styled.solutions[i].curvatures, 2);
+    return true;
+  });
+}
+
+void Session::PreviewPublisher::Send(const Hairstyle& style, const HairstyleMasters& masters) {
+  auto preview = std::make_shared<HairState>();
+  preview->styled.style = style;
+  preview->styled.masters = masters;
+  preview->stats.what = "solving";
+  preview->stats.masters = static_cast<int>(masters.models.size());
+  auto curves = std::make_shared<HairCurves>();
+  for (size_t i = 0; i < lines_.size(); ++i) {
+    preview->stats.resolved += final_[i] ? 1 : 0;
+    const size_t count = std::max<size_t>(2, lines_[i].size());
+    curves->point_counts.push_back(static_cast<std::uint32_t>(count));
+    if (lines_[i].size() < 2) {
+      curves->points.insert(curves->points.end(), 2, masters.roots[i].position.cast<float>());
+    } else {
+      curves->points.insert(curves->points.end(), lines_[i].begin(), lines_[i].end());
+    }
+    curves->widths.insert(curves->widths.end(), count, 8e-5f);  // drawn a pixel wide anyway
+  }
+  static std::atomic<std::uint64_t> preview_serial{1u << 30};
+  preview->strands_id = ++preview_serial;
+  preview->strands = std::move(curves);
+  if (session_->preview_listener_) session_->preview_listener_(preview);
+  {
+    std::lock_guard<std::mutex> lock(session_->mutex_);
+    session_->preview_ = std::move(preview);
+    session_->preview_generation_ = generation_;
+  }
+  last_ = std::chrono::steady_clock::now();
+  eager_ = false;
+  if (session_->wake_ui_) session_->wake_ui_();
+}
 
 void Session::ShowOrSchedule() {
   const std::shared_ptr<const HairState>& state = history_[cursor_].state;
@@ -488,6 +601,7 @@ void Session::Schedule(int entry) {
   job->entry = entry;
   job->generation = generation_;
   job->document = history_[entry].document;
+  job->body = CachedBody(job->document.parameters, job->document.base_directory);
   for (const Entry& e : history_) {
     if (e.state) job->solved.push_back(Candidate{e.document, e.state});
   }
@@ -523,6 +637,7 @@ void Session::WorkerLoop() {
       }
     }
     idle_.notify_all();
+    if (wake_ui_) wake_ui_();
   }
 }
 
@@ -541,12 +656,14 @@ bool Session::Poll() {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!f.error.empty()) {
       last_error_ = history_[f.entry].label + ": " + f.error;
+      preview_.reset();  // the failed solve's masters are not shown any more
       continue;
     }
     last_error_.clear();
     history_[f.entry].state = f.state;
     if (f.entry == cursor_) {
       shown_ = f.state;
+      shown_generation_ = f.generation;
       changed = true;
     }
   }
@@ -589,6 +706,10 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
     std::lock_guard<std::mutex> lock(mutex_);
     progress_what_ = what;
   };
+  // A fresh file (nothing solved before, nothing on screen): its first masters are shown as
+  // soon as the first (smaller) block is solved.
+  const bool fresh = candidates.empty();
+  PreviewPublisher preview(this, job.generation, preview_seconds_, fresh);
 
   // 1. The closest solved entry with the same parameters whose operations are a prefix of the
   //    target's: only the remaining operations run, from its equilibrium.
@@ -616,12 +737,6 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
     state->styled = from->styled;
   } else {
     // 2. A new groom: build the masters and solve those whose model changed.
-    Hairstyle style;
-    std::string why;
-    if (!ParseHairstyle(nlohmann::json(target.parameters), target.base_directory, &style, &why)) {
-      *error = why;
-      return false;
-    }
     // The groom to reuse: the most recent candidate (its body shared when "body" is unchanged).
     const HairState* previous = nullptr;
     const Document* previous_document = nullptr;
@@ -631,13 +746,24 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
         previous_document = &document;
       }
     }
-    if (previous) {
+    // The body read by the UI thread's checks (Session::CachedBody), else the previous groom's
+    // when "body" is unchanged, else read here.
+    std::shared_ptr<const Body> body = job.body;
+    if (!body && previous) {
       const auto a = target.parameters.find("body");
       const auto b = previous_document->parameters.find("body");
       if (a != target.parameters.end() && b != previous_document->parameters.end() && *a == *b &&
           target.base_directory == previous_document->base_directory) {
-        style.body = previous->styled.style.body;
+        body = previous->styled.style.body;
       }
+    }
+    Hairstyle style;
+    std::string why;
+    set_what("reading the hairstyle");
+    if (!ParseHairstyle(nlohmann::json(target.parameters), target.base_directory, body, &style,
+                        &why)) {
+      *error = why;
+      return false;
     }
     const bool same_solver = previous && previous_document &&
                              target.parameters.value("solver", ojson()) ==
@@ -668,44 +794,31 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
         todo.push_back(i);
       }
     }
-    // A fresh groom (nothing solved before): the masters are published as they are solved
-    // (Preview), so that the view shows them before the whole groom is done.
-    const bool publish = candidates.empty();
-    auto last_publish = std::chrono::steady_clock::now();
+    // The masters are published as they are solved (Preview): the not yet solved ones in the
+    // shape shown before this edit (the previous hair's master, when it has as many), else a
+    // stub at the root.
     std::vector<char> solved_yet(n, 0);
     for (int i = 0; i < n; ++i) solved_yet[i] = groom->solutions[i].curvatures.size() > 0;
-    const auto publish_masters = [&] {
-      auto preview = std::make_shared<HairState>();
-      preview->styled.style = style;
-      preview->styled.masters = groom->masters;
-      preview->stats.what = "solving";
-      preview->stats.masters = n;
-      auto curves = std::make_shared<HairCurves>();
-      for (int i = 0; i < n; ++i) {
-        std::vector<Vec3> points;
+    const StyledHair* before =
+        previous && static_cast<int>(previous->styled.masters.models.size()) == n
+            ? &previous->styled
+            : nullptr;
+    const auto publish_groom = [&] {
+      preview.Publish(style, groom->masters, [&](int i, std::vector<Vec3>* points) {
         if (solved_yet[i]) {
-          points = SampleCentreline(groom->masters.models[i], groom->solutions[i].curvatures, 2);
+          *points = SampleCentreline(groom->masters.models[i], groom->solutions[i].curvatures, 2);
+        } else if (before) {
+          *points = SampleCentreline(before->masters.models[i], before->solutions[i].curvatures, 2);
         }
-        if (points.size() < 2) points.assign(2, groom->masters.roots[i].position);
-        curves->point_counts.push_back(static_cast<std::uint32_t>(points.size()));
-        for (const Vec3& x : points) {
-          curves->points.push_back(x.cast<float>());
-          curves->widths.push_back(8e-5f);  // drawn a pixel wide anyway
-        }
-      }
-      static std::atomic<std::uint64_t> preview_serial{1u << 30};
-      preview->strands_id = ++preview_serial;
-      preview->strands = std::move(curves);
-      std::lock_guard<std::mutex> lock(mutex_);
-      preview_ = std::move(preview);
-      preview_generation_ = job.generation;
+        return solved_yet[i] != 0;
+      });
     };
     // Blocks of masters between cancellation checks (the same solves as one SolveStrands call).
     set_what("solving masters");
-    const size_t block = 32;
-    for (size_t begin = 0; begin < todo.size(); begin += block) {
+    // The first block of a fresh file is 8 masters: its first picture sooner.
+    for (size_t begin = 0, end = 0; begin < todo.size(); begin = end) {
       if (cancel.load()) return false;
-      const size_t end = std::min(todo.size(), begin + block);
+      end = std::min(todo.size(), begin + (fresh && begin == 0 ? 8 : 32));
       std::vector<StrandModel> models;
       std::vector<VecX> warm;
       for (size_t k = begin; k < end; ++k) {
@@ -723,10 +836,7 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
       }
       progress_done_ = static_cast<int>(end);
       progress_total_ = static_cast<int>(todo.size());
-      if (publish && SecondsSince(last_publish) >= preview_seconds_) {
-        publish_masters();
-        last_publish = std::chrono::steady_clock::now();
-      }
+      if (preview.Due()) publish_groom();
     }
     stats.resolved = static_cast<int>(todo.size());
     stats.what = "groom";
@@ -749,6 +859,7 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
       *error = "operations[" + std::to_string(k) + "]: " + why;
       return false;
     }
+    if (preview.Due()) preview.PublishStyled(state->styled);
     stats.what = report.name;
     // Clump and frizz change wisps only: their strands are not master solves.
     if (op.kind != StyleOperation::Kind::kClump && op.kind != StyleOperation::Kind::kFrizz) {
@@ -760,6 +871,9 @@ bool Session::Compute(const JobData& job, std::shared_ptr<HairState>* out, std::
   }
   if (cancel.load()) return false;
   stats.solve_seconds = SecondsSince(start);
+  // The masters solved, the children not yet grown: shown when the edit has been running long
+  // enough to publish (or has published before).
+  if (preview.Due()) preview.PublishStyled(state->styled);
   set_what("growing wisps");
   const auto wisp_start = std::chrono::steady_clock::now();
   // Only the wisps of the masters that changed since `from` are regrown (RegrowWisps, the same

@@ -16,8 +16,10 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -105,10 +107,31 @@ class Session {
   void SetThreads(int threads) { threads_ = threads; }
   /// The least time between two Preview() publications (s; 0.3 by default, 0 in tests).
   void SetPreviewSeconds(double seconds) { preview_seconds_ = seconds; }
+  /// Called on the worker thread after each Preview() publication and each finished solve, so
+  /// that a waiting UI wakes at once (the studio: glfwPostEmptyEvent). Set before the first edit.
+  void SetWake(std::function<void()> wake) { wake_ui_ = std::move(wake); }
+  /// Called on the worker thread with each Preview() publication as it is made (tests; set
+  /// before the edit).
+  void SetPreviewListener(std::function<void(const std::shared_ptr<const HairState>&)> listener) {
+    preview_listener_ = std::move(listener);
+  }
 
+  /// A hairstyle file read and checked, its body built (Read), for Open: reading can run on
+  /// another thread (the studio reads its file while the window opens; the head mesh's body
+  /// takes seconds).
+  struct File {
+    std::string path;
+    nlohmann::ordered_json json;
+    std::shared_ptr<const Body> body;
+    std::string error;  ///< not empty: the file does not open (the CLI's one-line message)
+  };
+  /// Reads and checks a hairstyle file (thread-safe: touches no session).
+  static File Read(const std::string& path);
   /// Reads a hairstyle file (with its operations) and starts grooming it. A bad file returns
   /// false with the CLI's one-line message and keeps the current document, hair and history.
-  bool Open(const std::string& path, std::string* error);
+  bool Open(const std::string& path, std::string* error) { return Open(Read(path), error); }
+  /// The same with a file read before (Read).
+  bool Open(const File& file, std::string* error);
   /// The same from a JSON document in memory (relative paths against base_directory).
   bool OpenDocument(const nlohmann::ordered_json& json, const std::string& base_directory,
                     const std::string& name, std::string* error);
@@ -152,11 +175,15 @@ class Session {
 
   /// The hair shown: the last finished solve (null before the first one).
   std::shared_ptr<const HairState> Hair() const { return shown_; }
-  /// While the groom of a freshly opened document is solved (no hair to show yet, Hair() null):
-  /// the masters solved so far, one polyline each (2 points per segment; a master not solved
-  /// yet is a zero-length segment at its root), published by the worker after a block of masters
-  /// at most every 0.3 s (SetPreviewSeconds); its masters, style and roots are the groom's,
-  /// stats.what "solving". Null otherwise (and once the hair is shown).
+  /// While the current entry is solved (a freshly opened document, or an edit that takes longer
+  /// than the preview period): the masters as solved so far, one polyline each (2 points per
+  /// segment), published by the worker at most every 0.3 s (SetPreviewSeconds; the first one that
+  /// long after the solve started): during the groom, after each block of masters (a master not
+  /// solved yet keeps the shape it had in the hair shown before, or is a zero-length segment at
+  /// its root when there was none); after each operation; and once every master is solved,
+  /// while the wisps grow. Its masters, style and roots are the groom's or the styled hair's,
+  /// stats.what "solving", stats.resolved the masters in their final shape for this solve.
+  /// Null otherwise (and once the solve's hair is shown).
   std::shared_ptr<const HairState> Preview() const;
   /// The document of the current history entry.
   const Document& CurrentDocument() const { return history_[cursor_].document; }
@@ -192,11 +219,47 @@ class Session {
     int entry = -1;
     std::uint64_t generation = 0;
     Document document;
+    std::shared_ptr<const Body> body;  // the document's body when read before (CachedBody)
     std::vector<Candidate> solved;  // entries solved before, oldest first
     std::shared_ptr<std::atomic<bool>> cancel;
   };
 
+  // The worker's publication of Preview(): at most every `seconds` (the first one `seconds` after
+  // the job started, so that a quick edit publishes nothing), the masters' polylines.
+  class PreviewPublisher {
+   public:
+    // eager: the first publication is due at once (a fresh file: nothing is on screen yet).
+    PreviewPublisher(Session* session, std::uint64_t generation, double seconds, bool eager);
+    // Whether a publication is due now.
+    bool Due() const;
+    // The masters of `masters`: shape(i, &points) fills master i's centreline (empty: a stub at
+    // the root) and returns whether it is final for this job (then kept for later
+    // publications, not asked again).
+    template <class Shape>
+    void Publish(const Hairstyle& style, const HairstyleMasters& masters, const Shape& shape);
+    // Every master of a styled hair (its final shapes).
+    void PublishStyled(const StyledHair& styled);
+
+   private:
+    void Send(const Hairstyle& style, const HairstyleMasters& masters);
+    Session* session_;
+    std::uint64_t generation_;
+    double seconds_;
+    bool eager_;
+    std::chrono::steady_clock::time_point last_;
+    std::vector<std::vector<Vec3f>> lines_;  // per master, the polyline of the last publication
+    std::vector<char> final_;
+  };
+
   void PushEntry(Document document, std::string label);
+  // The body of these parameters when it was read before in this session (its "body" member and
+  // base directory equal), else null; Remember keeps a body read for them. Reading the head
+  // mesh's body builds its distance grid (about 1.7 s of CPU), which every edit, the worker's
+  // parse and the open's two checks would otherwise repeat.
+  std::shared_ptr<const Body> CachedBody(const nlohmann::ordered_json& parameters,
+                                         const std::string& base_directory) const;
+  void RememberBody(const nlohmann::ordered_json& parameters, const std::string& base_directory,
+                    std::shared_ptr<const Body> body);
   // Shows entry `cursor_` at once when it was solved (strands kept), else schedules it.
   void ShowOrSchedule();
   // Cancels the running solve and schedules entry (or nothing, for -1).
@@ -206,6 +269,12 @@ class Session {
   // failed (error set on failure only).
   bool Compute(const JobData& job, std::shared_ptr<HairState>* out, std::string* error);
 
+  struct CachedBodyEntry {
+    nlohmann::ordered_json key;  // the "body" member
+    std::string base_directory;
+    std::shared_ptr<const Body> body;
+  };
+  std::vector<CachedBodyEntry> bodies_;  // UI thread; the newest last, at most 4
   std::vector<Entry> history_;
   int cursor_ = 0;
   int saved_cursor_ = 0;
@@ -213,6 +282,8 @@ class Session {
   std::shared_ptr<const HairState> shown_;
   int threads_ = 0;
   double preview_seconds_ = 0.3;
+  std::function<void(const std::shared_ptr<const HairState>&)> preview_listener_;
+  std::function<void()> wake_ui_;
 
   // Worker state, guarded by mutex_.
   mutable std::mutex mutex_;
@@ -238,6 +309,7 @@ class Session {
   std::shared_ptr<const HairState> preview_;  // Preview(), of job preview_generation_
   std::uint64_t preview_generation_ = 0;
   std::uint64_t scheduled_generation_ = 0;  // UI thread: the job whose result is wanted
+  std::uint64_t shown_generation_ = 0;      // UI thread: the job whose result is shown_
 };
 
 }  // namespace ringlet::studio

@@ -5,7 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <string>
+#include <tuple>
+#include <unordered_map>
 
 #include "ringlet/hair_bsdf.h"
 #include "ringlet/render.h"
@@ -67,6 +71,32 @@ void main() {
     }
   }
   EndPrimitive();
+}
+)";
+
+// Hair thinner than a pixel (what the view shows unless zoomed in ~10x): plain GL lines, the
+// geometry shader's outputs computed per vertex (the tangent from the strand's points, uploaded
+// per point). The picture is the ribbons' (a one-pixel line, alpha the coverage) at a third of
+// the cost under llvmpipe, whose geometry shaders are slow (2.5 us against 0.7 us a segment,
+// measured; docs/benchmarks.md).
+const char* kHairLineVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in float width;
+layout(location = 2) in float flag;
+layout(location = 3) in vec3 tangent;
+uniform mat4 view_projection;
+uniform float pixels_per_unit;
+out vec3 g_tangent;
+out vec3 g_position;
+out float g_flag;
+out float g_alpha;
+void main() {
+  vec4 clip = view_projection * vec4(position, 1.0);
+  gl_Position = clip;
+  g_tangent = tangent;
+  g_position = position;
+  g_flag = flag;
+  g_alpha = clamp(width / (clip.w / pixels_per_unit), 0.25, 1.0);
 }
 )";
 
@@ -351,13 +381,20 @@ void OrbitCamera::Frame(const Eigen::AlignedBox3f& box) {
 Viewer::Viewer() = default;
 
 Viewer::~Viewer() {
-  if (hair_vao_) glDeleteVertexArrays(1, &hair_vao_);
-  if (body_vao_) glDeleteVertexArrays(1, &body_vao_);
-  const unsigned buffers[] = {hair_vbo_, flag_vbo_, hair_ebo_, body_vbo_};
-  for (unsigned b : buffers) {
+  for (StrandBuffers* g : {&hair_gl_, &preview_gl_}) {
+    if (g->vao) glDeleteVertexArrays(1, &g->vao);
+    for (unsigned b : {g->vbo, g->tangent_vbo, g->flag_vbo, g->ebo}) {
+      if (b) glDeleteBuffers(1, &b);
+    }
+  }
+  for (unsigned a : {body_vao_, coarse_body_vao_}) {
+    if (a) glDeleteVertexArrays(1, &a);
+  }
+  for (unsigned b : {body_vbo_, coarse_body_vbo_}) {
     if (b) glDeleteBuffers(1, &b);
   }
   if (hair_program_) glDeleteProgram(hair_program_);
+  if (line_program_) glDeleteProgram(line_program_);
   if (gizmo_program_) glDeleteProgram(gizmo_program_);
   if (gizmo_vao_) glDeleteVertexArrays(1, &gizmo_vao_);
   if (gizmo_vbo_) glDeleteBuffers(1, &gizmo_vbo_);
@@ -373,22 +410,145 @@ bool Viewer::Init(std::string* error) {
                         {GL_GEOMETRY_SHADER, kHairGeometry},
                         {GL_FRAGMENT_SHADER, kHairFragment}},
                        error);
+  line_program_ =
+      Link({{GL_VERTEX_SHADER, kHairLineVertex}, {GL_FRAGMENT_SHADER, kHairFragment}}, error);
   body_program_ =
       Link({{GL_VERTEX_SHADER, kBodyVertex}, {GL_FRAGMENT_SHADER, kBodyFragment}}, error);
   gizmo_program_ =
       Link({{GL_VERTEX_SHADER, kGizmoVertex}, {GL_FRAGMENT_SHADER, kGizmoFragment}}, error);
   composite_program_ =
       Link({{GL_VERTEX_SHADER, kCompositeVertex}, {GL_FRAGMENT_SHADER, kCompositeFragment}}, error);
-  if (!hair_program_ || !body_program_ || !gizmo_program_ || !composite_program_) return false;
+  if (!hair_program_ || !line_program_ || !body_program_ || !gizmo_program_ ||
+      !composite_program_) {
+    return false;
+  }
   glGenVertexArrays(1, &gizmo_vao_);
   glGenBuffers(1, &gizmo_vbo_);
-  glGenVertexArrays(1, &hair_vao_);
-  glGenBuffers(1, &hair_vbo_);
-  glGenBuffers(1, &flag_vbo_);
-  glGenBuffers(1, &hair_ebo_);
+  for (StrandBuffers* g : {&hair_gl_, &preview_gl_}) {
+    glGenVertexArrays(1, &g->vao);
+    glGenBuffers(1, &g->vbo);
+    glGenBuffers(1, &g->tangent_vbo);
+    glGenBuffers(1, &g->flag_vbo);
+    glGenBuffers(1, &g->ebo);
+  }
   glGenVertexArrays(1, &body_vao_);
   glGenBuffers(1, &body_vbo_);
+  glGenVertexArrays(1, &coarse_body_vao_);
+  glGenBuffers(1, &coarse_body_vbo_);
   return true;
+}
+
+namespace {
+
+// The unit tangent of a strand at each of its points (toward the tip: the next segment's
+// direction, the last point its segment's), 3 normalized signed bytes and a pad per point.
+void StrandTangents(const HairCurves& c, size_t first_point, size_t count, std::int8_t* out) {
+  for (size_t p = 0; p < count; ++p) {
+    const size_t q = first_point + p;
+    const bool last = p + 1 == count;
+    Eigen::Vector3f t = last ? Eigen::Vector3f(c.points[q] - c.points[q - 1])
+                             : Eigen::Vector3f(c.points[q + 1] - c.points[q]);
+    const float n = t.norm();
+    t = n > 0.0f ? Eigen::Vector3f(t / n) : Eigen::Vector3f::UnitZ();
+    for (int k = 0; k < 3; ++k) out[4 * p + k] = static_cast<std::int8_t>(std::lround(127.0f * t[k]));
+    out[4 * p + 3] = 0;
+  }
+}
+
+// The body's triangles (6 floats per corner: position, normal) for the frames while the camera
+// moves: about a sixth of them (CoarseBody, below UploadBody).
+std::vector<float> CoarseBody(const std::vector<float>& triangles);
+
+void TangentsOfAll(const HairCurves& c, std::vector<std::int8_t>* out) {
+  out->assign(4 * c.points.size(), 0);
+  size_t first = 0;
+  for (std::uint32_t count : c.point_counts) {
+    if (count >= 2) StrandTangents(c, first, count, out->data() + 4 * first);
+    first += count;
+  }
+}
+
+}  // namespace
+
+void Viewer::UploadStrands(StrandBuffers* g, const HairCurves& c,
+                           const std::vector<std::uint32_t>& indices) {
+  std::vector<float> data(4 * c.points.size());
+  g->max_width = 0.0f;
+  for (size_t i = 0; i < c.points.size(); ++i) {
+    data[4 * i + 0] = c.points[i].x();
+    data[4 * i + 1] = c.points[i].y();
+    data[4 * i + 2] = c.points[i].z();
+    data[4 * i + 3] = c.widths[i];
+    g->max_width = std::max(g->max_width, c.widths[i]);
+  }
+  std::vector<std::int8_t> tangents;
+  TangentsOfAll(c, &tangents);
+  glBindVertexArray(g->vao);
+  glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
+  glBufferData(GL_ARRAY_BUFFER, data.size() * sizeof(float), data.data(), GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, 4 * sizeof(float),
+                        reinterpret_cast<void*>(3 * sizeof(float)));
+  glBindBuffer(GL_ARRAY_BUFFER, g->tangent_vbo);
+  glBufferData(GL_ARRAY_BUFFER, tangents.size(), tangents.data(), GL_STATIC_DRAW);
+  glEnableVertexAttribArray(3);
+  glVertexAttribPointer(3, 3, GL_BYTE, GL_TRUE, 4, nullptr);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ebo);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, indices.size() * 4, indices.data(), GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  g->indices = static_cast<long>(indices.size());
+  last_upload_bytes_ = static_cast<long>(data.size() * 4 + tangents.size() + indices.size() * 4);
+}
+
+void Viewer::SetPreview(const std::shared_ptr<const HairState>& preview) {
+  if (preview == preview_) return;
+  preview_ = preview;
+  ++hair_version_;
+  if (!preview || !preview->strands) return;
+  const HairCurves& c = *preview->strands;
+  // Every master in order, all flagged as masters.
+  std::vector<std::uint32_t> indices;
+  indices.reserve(2 * c.points.size());
+  std::uint32_t first = 0;
+  for (std::uint32_t count : c.point_counts) {
+    for (std::uint32_t p = first; p + 1 < first + count; ++p) {
+      indices.push_back(p);
+      indices.push_back(p + 1);
+    }
+    first += count;
+  }
+  const long hair_upload = last_upload_bytes_;  // LastUploadBytes is the hair's
+  UploadStrands(&preview_gl_, c, indices);
+  last_upload_bytes_ = hair_upload;
+  preview_gl_.master_indices = preview_gl_.indices;
+  const std::vector<float> flags(c.points.size(), 1.0f);
+  glBindVertexArray(preview_gl_.vao);
+  glBindBuffer(GL_ARRAY_BUFFER, preview_gl_.flag_vbo);
+  glBufferData(GL_ARRAY_BUFFER, flags.size() * sizeof(float), flags.data(), GL_DYNAMIC_DRAW);
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, sizeof(float), nullptr);
+  glBindVertexArray(0);
+  const Body* body = preview->styled.style.body.get();
+  if (body && body != body_) {
+    body_ = body;
+    UploadBody(*body_);
+  }
+  // Another file's masters: the box starts again (the hair on the GPU is the old file's).
+  if (!hair_ || hair_->styled.style.body.get() != body) bounds_.setEmpty();
+  ExtendBounds(c);
+}
+
+void Viewer::ExtendBounds(const HairCurves& c) {
+  for (const Vec3f& x : c.points) bounds_.extend(x);
+  if (body_) {
+    const Box3& b = body_->Bounds();
+    if (!b.isEmpty()) {
+      bounds_.extend(b.min().cast<float>());
+      bounds_.extend(b.max().cast<float>());
+    }
+  }
 }
 
 void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
@@ -400,7 +560,10 @@ void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
     const int masters = static_cast<int>(hair->styled.masters.models.size());
     const size_t per_master = masters > 0 ? c.points.size() / masters : 0;
     std::vector<float> data(4 * per_master);
-    glBindBuffer(GL_ARRAY_BUFFER, hair_vbo_);
+    std::vector<std::int8_t> tangents(4 * per_master);
+    const int per_wisp = masters > 0 ? std::max(1, c.NumStrands() / masters) : 1;
+    std::vector<size_t> first_point(c.NumStrands() + 1, 0);
+    for (int k = 0; k < c.NumStrands(); ++k) first_point[k + 1] = first_point[k] + c.point_counts[k];
     for (int i : hair->regrown) {
       const size_t first = static_cast<size_t>(i) * per_master;
       for (size_t p = 0; p < per_master; ++p) {
@@ -409,14 +572,26 @@ void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
         data[4 * p + 1] = x.y();
         data[4 * p + 2] = x.z();
         data[4 * p + 3] = c.widths[first + p];
+        hair_gl_.max_width = std::max(hair_gl_.max_width, c.widths[first + p]);
         bounds_.extend(x);
       }
+      // The tangents of the wisp's strands (strands_per_wisp whole strands of the slice).
+      for (int k = i * per_wisp; k < (i + 1) * per_wisp && k < c.NumStrands(); ++k) {
+        if (c.point_counts[k] >= 2) {
+          StrandTangents(c, first_point[k], c.point_counts[k],
+                         tangents.data() + 4 * (first_point[k] - first));
+        }
+      }
+      glBindBuffer(GL_ARRAY_BUFFER, hair_gl_.vbo);
       glBufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(4 * first * sizeof(float)),
                       static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data());
+      glBindBuffer(GL_ARRAY_BUFFER, hair_gl_.tangent_vbo);
+      glBufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(4 * first),
+                      static_cast<GLsizeiptr>(tangents.size()), tangents.data());
     }
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     hair_ = hair;
-    last_upload_bytes_ = static_cast<long>(hair->regrown.size() * per_master * 4 * sizeof(float));
+    last_upload_bytes_ = static_cast<long>(hair->regrown.size() * per_master * 20);
     UploadFlags();
     return;
   }
@@ -425,15 +600,6 @@ void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
   bounds_.setEmpty();
   if (!hair || !hair->strands) return;
   const HairCurves& c = *hair->strands;
-  // One interleaved VBO: position (3 floats) and width (1 float) per point.
-  std::vector<float> data(4 * c.points.size());
-  for (size_t i = 0; i < c.points.size(); ++i) {
-    data[4 * i + 0] = c.points[i].x();
-    data[4 * i + 1] = c.points[i].y();
-    data[4 * i + 2] = c.points[i].z();
-    data[4 * i + 3] = c.widths[i];
-    bounds_.extend(c.points[i]);
-  }
   // The segments in drawing order: the masters (the first strand of each wisp) first, then the
   // first child of every wisp, the second, ...; wisps in the order of the radical inverse of
   // their index (van der Corput, base 2), so that any prefix of the order (the preview density,
@@ -468,36 +634,18 @@ void Viewer::SetHair(const std::shared_ptr<const HairState>& hair) {
       if (k < c.NumStrands()) add_strand(k);
       if (j == 0) strand_of_master_[w] = static_cast<std::uint32_t>(k);
     }
-    if (j == 0) master_indices_ = static_cast<long>(all.size());
+    if (j == 0) hair_gl_.master_indices = static_cast<long>(all.size());
   }
   // Strands beyond masters x per_wisp (none in the hairstyle's layout) come last.
   for (int k = masters * per_wisp; k < c.NumStrands(); ++k) add_strand(k);
-  if (masters == 0) master_indices_ = 0;
-  last_upload_bytes_ = static_cast<long>((data.size() + all.size()) * 4);
-  hair_indices_ = static_cast<long>(all.size());
-  glBindVertexArray(hair_vao_);
-  glBindBuffer(GL_ARRAY_BUFFER, hair_vbo_);
-  glBufferData(GL_ARRAY_BUFFER, data.size() * sizeof(float), data.data(), GL_STATIC_DRAW);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, 4 * sizeof(float),
-                        reinterpret_cast<void*>(3 * sizeof(float)));
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, hair_ebo_);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, all.size() * 4, all.data(), GL_STATIC_DRAW);
-  glBindVertexArray(0);
+  if (masters == 0) hair_gl_.master_indices = 0;
+  UploadStrands(&hair_gl_, c, all);
   UploadFlags();
   if (hair->styled.style.body.get() != body_) {
     body_ = hair->styled.style.body.get();
     if (body_) UploadBody(*body_);
   }
-  if (body_) {
-    const Box3& b = body_->Bounds();
-    if (!b.isEmpty()) {
-      bounds_.extend(b.min().cast<float>());
-      bounds_.extend(b.max().cast<float>());
-    }
-  }
+  ExtendBounds(c);
 }
 
 void Viewer::SetBrush(const std::vector<int>& masters) {
@@ -530,8 +678,8 @@ void Viewer::UploadFlags() {
     if (f == 0.0f && k % per_wisp == 0) f = 1.0f;
     for (std::uint32_t j = 0; j < c.point_counts[k]; ++j) flags[p++] = f;
   }
-  glBindVertexArray(hair_vao_);
-  glBindBuffer(GL_ARRAY_BUFFER, flag_vbo_);
+  glBindVertexArray(hair_gl_.vao);
+  glBindBuffer(GL_ARRAY_BUFFER, hair_gl_.flag_vbo);
   glBufferData(GL_ARRAY_BUFFER, flags.size() * sizeof(float), flags.data(), GL_DYNAMIC_DRAW);
   glEnableVertexAttribArray(2);
   glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, sizeof(float), nullptr);
@@ -570,16 +718,81 @@ void Viewer::UploadBody(const Body& body) {
     }
   }
   body_vertices_ = static_cast<long>(data.size() / 6);
-  glBindVertexArray(body_vao_);
-  glBindBuffer(GL_ARRAY_BUFFER, body_vbo_);
-  glBufferData(GL_ARRAY_BUFFER, data.size() * sizeof(float), data.data(), GL_STATIC_DRAW);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
-                        reinterpret_cast<void*>(3 * sizeof(float)));
+  const std::vector<float> coarse = CoarseBody(data);
+  coarse_body_vertices_ = static_cast<long>(coarse.size() / 6);
+  for (const auto& [vao, vbo, triangles] :
+       {std::tuple<unsigned, unsigned, const std::vector<float>*>{body_vao_, body_vbo_, &data},
+        std::tuple<unsigned, unsigned, const std::vector<float>*>{coarse_body_vao_,
+                                                                   coarse_body_vbo_, &coarse}}) {
+    glBindVertexArray(vao);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBufferData(GL_ARRAY_BUFFER, triangles->size() * sizeof(float), triangles->data(),
+                 GL_STATIC_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                          reinterpret_cast<void*>(3 * sizeof(float)));
+  }
   glBindVertexArray(0);
 }
+
+namespace {
+
+std::vector<float> CoarseBody(const std::vector<float>& triangles) {
+  // Vertex clustering (Rossignac and Borrel 1993): the vertices on a grid of cells 2.5 mean
+  // edge lengths wide, each cell's vertices merged at their mean, the triangles whose corners
+  // fall in three different cells kept (with their new face normal, on the side of the old).
+  const size_t n = triangles.size() / 18;
+  const auto at = [&](size_t t, int k) {
+    return Eigen::Vector3f(triangles[18 * t + 6 * k], triangles[18 * t + 6 * k + 1],
+                           triangles[18 * t + 6 * k + 2]);
+  };
+  double edges = 0.0;
+  for (size_t t = 0; t < n; ++t) edges += (at(t, 1) - at(t, 0)).norm();
+  if (n < 2000 || !(edges > 0.0)) return triangles;  // small enough as it is
+  const float cell = static_cast<float>(2.5 * edges / static_cast<double>(n));
+  std::unordered_map<std::uint64_t, int> cluster_of;
+  std::vector<Eigen::Vector3f> sums;
+  std::vector<int> counts, corner(3 * n);
+  for (size_t t = 0; t < n; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3f p = at(t, k);
+      std::uint64_t key = 0;
+      for (int a = 0; a < 3; ++a) {
+        key = key * 2097152u +
+              static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p[a] / cell)) +
+                                         1048576) % 2097152u;
+      }
+      const auto [it, inserted] = cluster_of.emplace(key, static_cast<int>(sums.size()));
+      if (inserted) {
+        sums.push_back(Eigen::Vector3f::Zero());
+        counts.push_back(0);
+      }
+      sums[it->second] += p;
+      ++counts[it->second];
+      corner[3 * t + k] = it->second;
+    }
+  }
+  std::vector<float> out;
+  for (size_t t = 0; t < n; ++t) {
+    const int a = corner[3 * t], b = corner[3 * t + 1], c = corner[3 * t + 2];
+    if (a == b || b == c || a == c) continue;
+    const Eigen::Vector3f pa = sums[a] / counts[a], pb = sums[b] / counts[b],
+                          pc = sums[c] / counts[c];
+    Eigen::Vector3f normal = (pb - pa).cross(pc - pa);
+    if (!(normal.norm() > 0.0f)) continue;
+    normal.normalize();
+    const Eigen::Vector3f old(triangles[18 * t + 3], triangles[18 * t + 4], triangles[18 * t + 5]);
+    if (normal.dot(old) < 0.0f) normal = -normal;
+    for (const Eigen::Vector3f* p : {&pa, &pb, &pc}) {
+      out.insert(out.end(), {p->x(), p->y(), p->z(), normal.x(), normal.y(), normal.z()});
+    }
+  }
+  return out;
+}
+
+}  // namespace
 
 Viewer::Scene Viewer::MakeScene(const OrbitCamera& camera, const HairLook& look, int width,
                                 int height) const {
@@ -598,42 +811,59 @@ Viewer::Scene Viewer::MakeScene(const OrbitCamera& camera, const HairLook& look,
     scene.light = (back + 0.25f * up).normalized();
   }
   scene.pixels_per_unit = 0.5f * height / std::tan(0.5f * camera.fov);
-  scene.segments = (look.masters_only ? master_indices_ : hair_indices_) / 2;
-  if (!hair_ || !hair_->strands) scene.segments = 0;
+  // What is drawn: the masters being solved (SetPreview), else the hair.
+  const bool preview = preview_ && preview_->strands;
+  scene.strands = preview ? &preview_gl_ : &hair_gl_;
+  scene.segments = (look.masters_only ? scene.strands->master_indices : scene.strands->indices) / 2;
+  if (!preview && (!hair_ || !hair_->strands)) scene.segments = 0;
+  scene.scalp = preview ? &preview_->styled.style.scalp
+                        : hair_ ? &hair_->styled.style.scalp : nullptr;
+  // Lines instead of ribbons when every fibre is thinner than a pixel at the nearest depth of
+  // the hair and body box (clip w = the view depth; the depth is linear: its least value over
+  // the box is at a corner).
+  float nearest = std::numeric_limits<float>::infinity();
+  const Eigen::Matrix4f view = camera.View();
+  for (int k = 0; k < 8 && !bounds_.isEmpty(); ++k) {
+    const Eigen::Vector3f corner = bounds_.corner(static_cast<Eigen::AlignedBox3f::CornerType>(k));
+    nearest = std::min(nearest, -(view * corner.homogeneous()).z());
+  }
+  scene.lines = nearest > 0.0f && scene.strands->max_width <= nearest / scene.pixels_per_unit;
   return scene;
 }
 
-void Viewer::DrawBody(const Scene& scene) {
+void Viewer::DrawBody(const Scene& scene, bool coarse) {
   if (body_vertices_ <= 0) return;
   glUseProgram(body_program_);
   SetMatrix(body_program_, "view_projection", scene.vp);
   SetVec3(body_program_, "light", scene.light);
-  glBindVertexArray(body_vao_);
-  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(body_vertices_));
+  glBindVertexArray(coarse ? coarse_body_vao_ : body_vao_);
+  glDrawArrays(GL_TRIANGLES, 0,
+               static_cast<GLsizei>(coarse ? coarse_body_vertices_ : body_vertices_));
 }
 
 void Viewer::DrawHair(const Scene& scene, const HairLook& look, long first, long count) {
-  if (count <= 0 || !hair_ || !hair_->strands) return;
+  if (count <= 0 || !scene.scalp) return;
   glEnable(GL_BLEND);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-  glUseProgram(hair_program_);
-  SetMatrix(hair_program_, "view_projection", scene.vp);
-  SetVec3(hair_program_, "eye", scene.eye);
-  SetVec3(hair_program_, "light", scene.light);
-  SetVec3(hair_program_, "colour", look.colour);
+  const unsigned program = scene.lines ? line_program_ : hair_program_;
+  glUseProgram(program);
+  SetMatrix(program, "view_projection", scene.vp);
+  SetVec3(program, "eye", scene.eye);
+  SetVec3(program, "light", scene.light);
+  SetVec3(program, "colour", look.colour);
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();
   float radius = 0.1f;
-  if (const auto* s = std::get_if<SphereScalp>(&hair_->styled.style.scalp)) {
+  if (const auto* s = std::get_if<SphereScalp>(scene.scalp)) {
     centre = s->head.centre.cast<float>();
     radius = static_cast<float>(s->radius);
   }
-  SetVec3(hair_program_, "head_centre", centre);
-  glUniform1f(glGetUniformLocation(hair_program_, "head_radius"), radius);
-  glUniform1i(glGetUniformLocation(hair_program_, "highlight_masters"),
+  SetVec3(program, "head_centre", centre);
+  glUniform1f(glGetUniformLocation(program, "head_radius"), radius);
+  glUniform1i(glGetUniformLocation(program, "highlight_masters"),
               look.highlight_masters || look.masters_only ? 1 : 0);
-  glUniform1f(glGetUniformLocation(hair_program_, "pixels_per_unit"), scene.pixels_per_unit);
-  glBindVertexArray(hair_vao_);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, hair_ebo_);
+  glUniform1f(glGetUniformLocation(program, "pixels_per_unit"), scene.pixels_per_unit);
+  glBindVertexArray(scene.strands->vao);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, scene.strands->ebo);
   glDrawElements(GL_LINES, static_cast<GLsizei>(2 * count), GL_UNSIGNED_INT,
                  reinterpret_cast<void*>(static_cast<std::uintptr_t>(2 * first * 4)));
   glDisable(GL_BLEND);
@@ -648,9 +878,10 @@ void Viewer::Draw(const OrbitCamera& camera, const HairLook& look, int x0, int f
   glViewport(x0, 0, width, height);
   glEnable(GL_DEPTH_TEST);
   const Scene scene = MakeScene(camera, look, width, height);
-  DrawBody(scene);
+  DrawBody(scene, /*coarse=*/max_segments >= 0);  // a preview: the body coarse too
   const long n = max_segments >= 0 ? std::min(scene.segments, max_segments) : scene.segments;
   DrawHair(scene, look, 0, n);
+  drew_lines_ = scene.lines;
   drawn_segments_ = last_draw_segments_ = n;
   refined_ = -1;  // the refining picture is not on screen any more
   if (gizmo_) DrawGizmo(scene.vp);
@@ -715,13 +946,14 @@ bool Viewer::DrawRefining(const OrbitCamera& camera, const HairLook& look, int x
     refine_key_ = key;
     glClearColor(0.16f, 0.17f, 0.2f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    DrawBody(scene);
+    DrawBody(scene, /*coarse=*/false);
     refined_ = 0;
   }
   // The next chunk of the drawing order (the same segments, blended in the same order, as one
   // draw call of them all).
   const long count = std::min(std::max(1L, chunk), scene.segments - refined_);
   DrawHair(scene, look, refined_, count);
+  drew_lines_ = scene.lines;
   refined_ += std::max(0L, count);
   last_draw_segments_ = std::max(0L, count);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -82,6 +82,10 @@ class Viewer {
   /// Uploads the strands of a hair state (one VBO, one index buffer for all strands, one for
   /// the masters) and the body.
   void SetHair(const std::shared_ptr<const HairState>& hair);
+  /// The masters being solved (Session::Preview), drawn instead of the hair while set (null:
+  /// the hair again). Kept in buffers of their own: the hair's stay on the GPU, so that the
+  /// solve's result uploads only its regrown wisps.
+  void SetPreview(const std::shared_ptr<const HairState>& preview);
   /// Marks the brushed masters (highlighted) and re-uploads the per-vertex flags.
   void SetBrush(const std::vector<int>& masters);
   /// Draws into the current framebuffer of full_width x height pixels, the 3D view in the
@@ -89,7 +93,9 @@ class Viewer {
   /// density while the camera moves or a solve runs) only the first max_segments segments of
   /// the drawing order are drawn: the masters first, then the first child of every wisp, the
   /// second, ... (wisps in a well-spread order), so that any prefix is the masters and an even
-  /// subset of the children.
+  /// subset of the children; and the body is drawn coarse (vertex clustering: about a sixth of
+  /// its triangles). Hair thinner than a pixel is drawn as lines, else as ribbons (a geometry
+  /// shader): the same picture, the lines cheaper (viewer.cpp).
   void Draw(const OrbitCamera& camera, const HairLook& look, int x0, int full_width, int height,
             long max_segments = -1);
   /// Full density without holding the UI: the picture is drawn off screen, chunk segments (in
@@ -117,34 +123,55 @@ class Viewer {
   /// Segments drawn by the last Draw or DrawRefining call itself (a refining call: its chunk).
   long LastDrawSegments() const { return last_draw_segments_; }
   /// Segments of all strands, and of the masters alone.
-  long TotalSegments() const { return hair_indices_ / 2; }
-  long MasterSegments() const { return master_indices_ / 2; }
+  long TotalSegments() const { return Shown().indices / 2; }
+  long MasterSegments() const { return Shown().master_indices / 2; }
+  /// Triangles of the body, and of its coarse version (drawn while the camera moves).
+  long BodyTriangles() const { return body_vertices_ / 3; }
+  long CoarseBodyTriangles() const { return coarse_body_vertices_ / 3; }
+  /// Whether the last Draw or DrawRefining drew the hair as lines (thinner than a pixel).
+  bool DrewLines() const { return drew_lines_; }
   /// Bytes sent to the GPU by the last SetHair (all buffers, or the regrown wisps only).
   long LastUploadBytes() const { return last_upload_bytes_; }
 
  private:
+  // Strands on the GPU: points (position, width), tangents (3 normalized bytes + pad), flags,
+  // and the segments' indices in drawing order (the masters the first master_indices).
+  struct StrandBuffers {
+    unsigned vao = 0, vbo = 0, tangent_vbo = 0, flag_vbo = 0, ebo = 0;
+    long indices = 0, master_indices = 0;
+    float max_width = 0.0f;  // m
+  };
   // What a frame draws with (Draw, DrawRefining).
   struct Scene {
     Eigen::Matrix4f vp;
     Eigen::Vector3f eye, light;
     float pixels_per_unit = 1.0f;
     long segments = 0;  // of the look (masters only, or all)
+    const StrandBuffers* strands = nullptr;
+    const std::variant<SphereScalp, MeshScalp>* scalp = nullptr;  // of the strands drawn
+    bool lines = false;            // every fibre thinner than a pixel: lines, not ribbons
   };
   Scene MakeScene(const OrbitCamera& camera, const HairLook& look, int width, int height) const;
-  void DrawBody(const Scene& scene);
+  void DrawBody(const Scene& scene, bool coarse);
   void DrawHair(const Scene& scene, const HairLook& look, long first, long count);
   void UploadFlags();
   void DrawGizmo(const Eigen::Matrix4f& view_projection);
   void UploadBody(const Body& body);
+  void UploadStrands(StrandBuffers* buffers, const HairCurves& curves,
+                     const std::vector<std::uint32_t>& indices);
+  void ExtendBounds(const HairCurves& curves);
+  const StrandBuffers& Shown() const {
+    return preview_ && preview_->strands ? preview_gl_ : hair_gl_;
+  }
 
-  std::shared_ptr<const HairState> hair_;
+  std::shared_ptr<const HairState> hair_, preview_;
   const Body* body_ = nullptr;
   std::vector<int> brush_;
-  unsigned hair_program_ = 0, body_program_ = 0;
-  unsigned hair_vao_ = 0, hair_vbo_ = 0, flag_vbo_ = 0, hair_ebo_ = 0;
-  long hair_indices_ = 0, master_indices_ = 0;  // the masters are the first master_indices_
-  unsigned body_vao_ = 0, body_vbo_ = 0;
-  long body_vertices_ = 0;
+  unsigned hair_program_ = 0, line_program_ = 0, body_program_ = 0;
+  StrandBuffers hair_gl_, preview_gl_;
+  unsigned body_vao_ = 0, body_vbo_ = 0, coarse_body_vao_ = 0, coarse_body_vbo_ = 0;
+  long body_vertices_ = 0, coarse_body_vertices_ = 0;
+  bool drew_lines_ = false;
   std::vector<std::uint32_t> strand_of_master_;  // first strand of each wisp
   Eigen::AlignedBox3f bounds_;
   long drawn_segments_ = 0, last_draw_segments_ = 0;

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
@@ -142,6 +143,113 @@ TEST_F(StudioSession, PreviewShowsTheMastersAsTheyAreSolved) {
       ASSERT_EQ(preview->strands->points[p++], x.cast<float>()) << "master " << i;
     }
   }
+}
+
+// The polyline of master i of a preview (its points from the preview's strands).
+std::vector<Vec3f> PreviewMaster(const HairState& preview, int i) {
+  const HairCurves& c = *preview.strands;
+  size_t first = 0;
+  for (int k = 0; k < i; ++k) first += c.point_counts[k];
+  return {c.points.begin() + first, c.points.begin() + first + c.point_counts[i]};
+}
+
+// The polyline a preview must show for master i of a styled hair (2 points per segment).
+std::vector<Vec3f> MasterLine(const StyledHair& hair, int i) {
+  std::vector<Vec3f> out;
+  for (const Vec3& x : SampleCentreline(hair.masters.models[i], hair.solutions[i].curvatures, 2)) {
+    out.push_back(x.cast<float>());
+  }
+  return out;
+}
+
+// Issue 26: an edit streams its masters as they are re-solved, children after. A parameter edit
+// (every master's length changes) publishes after each block of masters: the solved ones in
+// their new shape, the others still in the shape shown before; then every master, before the
+// wisps grow; the UI sees the last one (Preview) until it takes the hair. An operation
+// publishes its styled masters the same way.
+TEST_F(StudioSession, EditsStreamTheResolvedMasters) {
+  Open(70);
+  const std::shared_ptr<const HairState> before = session.Hair();
+  std::mutex mutex;
+  std::vector<std::shared_ptr<const HairState>> previews;
+  session.SetPreviewSeconds(0.0);
+  session.SetPreviewListener([&](const std::shared_ptr<const HairState>& p) {
+    std::lock_guard<std::mutex> lock(mutex);
+    previews.push_back(p);
+  });
+  const auto last_resolved = [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    return previews.empty() ? -1 : previews.back()->stats.resolved;
+  };
+  for (int edit = 0; edit < 2; ++edit) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      previews.clear();
+    }
+    std::string error;
+    if (edit == 0) {
+      ASSERT_TRUE(session.SetParameter("hair.length", 0.26, &error)) << error;
+    } else {
+      StyleOperation curl;
+      curl.kind = StyleOperation::Kind::kCurl;
+      curl.curl_radius = 0.01;
+      curl.curl_pitch = 0.02;
+      ASSERT_TRUE(session.AddOperation(curl, &error)) << error;
+    }
+    // Every master published in its final shape: the UI's Preview shows it until Poll.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (last_resolved() < 70 && std::chrono::steady_clock::now() < until) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_EQ(last_resolved(), 70) << "edit " << edit;
+    ASSERT_TRUE(session.Preview()) << "edit " << edit;
+    EXPECT_EQ(session.Preview()->stats.resolved, 70);
+    const std::shared_ptr<const HairState> shown_before = session.Hair();
+    session.Wait();
+    EXPECT_FALSE(session.Preview()) << "edit " << edit;
+    const std::shared_ptr<const HairState> after = session.Hair();
+    ASSERT_TRUE(after && after != shown_before);
+    std::lock_guard<std::mutex> lock(mutex);
+    std::vector<int> resolved;
+    for (const auto& p : previews) resolved.push_back(p->stats.resolved);
+    EXPECT_TRUE(std::is_sorted(resolved.begin(), resolved.end()));
+    if (edit == 0) {
+      // Blocks of 32 masters: 32, 64, 70 solved, then all before the wisps.
+      ASSERT_GE(previews.size(), 3u);
+      EXPECT_EQ(resolved.front(), 32);
+      const HairState& first = *previews.front();
+      for (int i = 0; i < 70; ++i) {
+        // The groom of the edit (no operations: the styled masters are the groom's).
+        const std::vector<Vec3f> expected =
+            i < 32 ? MasterLine(after->styled, i) : MasterLine(before->styled, i);
+        ASSERT_EQ(PreviewMaster(first, i), expected) << "master " << i;
+      }
+    } else {
+      ASSERT_GE(previews.size(), 1u);
+    }
+    // The last preview: every master as the hair has it.
+    const HairState& last = *previews.back();
+    ASSERT_EQ(last.strands->NumStrands(), 70);
+    for (int i = 0; i < 70; ++i) {
+      ASSERT_EQ(PreviewMaster(last, i), MasterLine(after->styled, i)) << "master " << i;
+      if (edit == 0) {
+        ASSERT_NE(MasterLine(after->styled, i), MasterLine(before->styled, i)) << "master " << i;
+      }
+    }
+  }
+}
+
+// A quick edit (faster than the preview period) publishes nothing: the hair is shown directly.
+TEST_F(StudioSession, QuickEditsPublishNoPreview) {
+  Open(20);
+  std::atomic<int> published{0};
+  session.SetPreviewSeconds(1e9);
+  session.SetPreviewListener([&](const std::shared_ptr<const HairState>&) { ++published; });
+  std::string error;
+  ASSERT_TRUE(session.SetParameter("hair.length", 0.22, &error)) << error;
+  session.Wait();
+  EXPECT_EQ(published.load(), 0);
+  EXPECT_FALSE(session.Preview());
 }
 
 TEST_F(StudioSession, BadFileKeepsTheHair) {
