@@ -355,6 +355,7 @@ int RunInvert(const InvertArgs& args) {
         curves->widths.push_back(static_cast<float>(2.0 * models[i].section.MeanRadius()));
       }
     }
+    std::vector<std::vector<Vec3>>().swap(*points);  // copied into the curves: freed
   }
   nlohmann::ordered_json summary;
   std::string scene_text;
