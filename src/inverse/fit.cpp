@@ -330,9 +330,15 @@ struct Stage {
   Vec4 offset = Vec4::Zero();
 };
 
-// Adds a residual row block J = [C (3x6) | D (3x4) | e (3x1)] to the stage.
+// Adds a residual row block J = [C (3x6) | D (3x4) | e (3x1)] to the stage. C's first 3 columns
+// are the identity (a residual moves with the segment's start), so the first 3 rows of J^T J
+// are J itself and only the lower right 8 x 8 block is a product: the same sums as the full
+// 11 x 11 product (whose identity terms add exact zeros), in half of its multiplications.
 void AddResidual(const Eigen::Matrix<double, 3, 11>& j, const Vec3* tangent, Stage* s) {
-  s->f.noalias() += j.transpose().lazyProduct(j);  // coefficient-based: no GEMM blocking
+  const auto rest = j.rightCols<8>();
+  s->f.topRows<3>() += j;
+  s->f.bottomLeftCorner<8, 3>() += rest.transpose();
+  s->f.bottomRightCorner<8, 8>().noalias() += rest.transpose().lazyProduct(rest);
   if (tangent) {
     const Vec11 g = j.transpose() * *tangent;
     s->t.noalias() += g * g.transpose();
