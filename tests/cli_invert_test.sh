@@ -189,7 +189,8 @@ bad "bad hair type" "--hair-type" "$work/targets.json" --hair-type martian
 # a good target, a target that cannot be read, one whose fit fails and one of an unknown format;
 # a bad target with a good body reports the target.
 echo '{"spheres": [{"name": "head", "center": [0, 0, 0], "radius": -1}]}' >"$work/bad_body.json"
-for target in "$work/targets.json" "$work/truncated.hair" "$work/repeat.hair" "$work/targets.txt"; do
+for target in "$work/targets.json" "$work/truncated.hair" "$work/repeat.hair" \
+  "$work/targets.txt"; do
   bad "missing body, target $(basename "$target")" "nobody.json" "$target" --body "$work/nobody.json"
   bad "bad body, target $(basename "$target")" "bad_body.json" "$target" --body "$work/bad_body.json"
 done

@@ -1249,7 +1249,8 @@ TEST(AtomicFile, WriteFilesWritesManyFilesSideBySide) {
   TempDirectory dir;
   std::vector<std::pair<std::string, std::string>> files;
   for (int k = 0; k < 20; ++k) {
-    files.emplace_back("f" + std::to_string(k), std::string(static_cast<size_t>(1000 * k), 'a' + k % 26));
+    const char fill = static_cast<char>('a' + k % 26);
+    files.emplace_back("f" + std::to_string(k), std::string(static_cast<size_t>(1000 * k), fill));
   }
   std::string error;
   ASSERT_TRUE(WriteFilesAtomically(dir.path(), files, false, &error)) << error;
