@@ -20,10 +20,16 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include "commands.h"
 #include "format.h"
@@ -143,15 +149,36 @@ int RunInvert(const InvertArgs& args) {
     PrintError(error);
     return kExitBadInput;
   }
-  std::shared_ptr<const Body> body;
+  // The body (its distance grid: ~2 s of CPU for a head mesh, partly serial) loads while the
+  // targets are read and fitted, which do not need it. Its error still comes first: every error
+  // path below waits for it (body_failed) before reporting its own.
+  struct BodyLoad {
+    std::shared_ptr<Body> body;
+    std::string error;
+  };
+  std::future<BodyLoad> body_future;
   if (!args.body_path.empty()) {
-    auto loaded = std::make_shared<Body>();
-    if (!LoadBody(args.body_path, loaded.get(), &error)) {
-      PrintError(error);
-      return kExitBadInput;
-    }
-    body = std::move(loaded);
+    body_future = std::async(std::launch::async, [path = args.body_path] {
+      BodyLoad load;
+      load.body = std::make_shared<Body>();
+      if (!LoadBody(path, load.body.get(), &load.error)) load.body.reset();
+      return load;
+    });
   }
+  std::shared_ptr<const Body> body;
+  bool body_done = false;
+  // Waits for the body (once); true (and the body's error printed) if it failed.
+  const auto body_failed = [&]() {
+    if (body_done || !body_future.valid()) return false;
+    body_done = true;
+    BodyLoad load = body_future.get();
+    if (!load.body) {
+      PrintError(load.error);
+      return true;
+    }
+    body = std::move(load.body);
+    return false;
+  };
 
   // Targets: exact piecewise helices from ringlet's JSON, or fitted polylines.
   const std::string extension = Lower(std::filesystem::path(args.target_path).extension().string());
@@ -165,7 +192,7 @@ int RunInvert(const InvertArgs& args) {
   if (extension == ".json") {
     std::vector<ExactTarget> exact;
     if (!ReadResultTargets(args.target_path, &exact, &error)) {
-      PrintError(error);
+      if (!body_failed()) PrintError(error);
       return kExitBadInput;
     }
     for (size_t i = 0; i < exact.size(); ++i) {
@@ -191,6 +218,7 @@ int RunInvert(const InvertArgs& args) {
     // convert`); a unit or axis flag that would be ignored is an error, not a silent default.
     read_options.ignore_file_metadata = args.ignore_usda_metadata;
     if (extension == ".usda" && args.units_given && !args.ignore_usda_metadata) {
+      if (body_failed()) return kExitBadInput;
       PrintError("--units-per-metre / --up: " + args.target_path +
                  " is a .usda stage, whose metersPerUnit and upAxis apply; add "
                  "--ignore-usda-metadata to use the flags instead");
@@ -199,11 +227,11 @@ int RunInvert(const InvertArgs& args) {
     HairCurves curves;
     StrandTargetSummary read_summary;
     if (!ReadStrandTargets(args.target_path, read_options, &curves, &read_summary, &error)) {
-      PrintError(error);
+      if (!body_failed()) PrintError(error);
       return kExitBadInput;
     }
     if (curves.NumStrands() == 0) {
-      PrintError(args.target_path + ": no strands");
+      if (!body_failed()) PrintError(args.target_path + ": no strands");
       return kExitBadInput;
     }
     std::vector<std::vector<Vec3>> polylines(static_cast<size_t>(curves.NumStrands()));
@@ -213,6 +241,13 @@ int RunInvert(const InvertArgs& args) {
         polylines[k].push_back(curves.points[offset + p].cast<double>());
       }
       offset += curves.point_counts[k];
+    }
+    // A body that already failed (a missing or malformed file fails at once) is reported before
+    // the fit, not after it.
+    if (body_future.valid() &&
+        body_future.wait_for(std::chrono::seconds(0)) == std::future_status::ready &&
+        body_failed()) {
+      return kExitBadInput;
     }
     std::vector<HelixFit> fits;
     int failed = 0;
@@ -226,7 +261,9 @@ int RunInvert(const InvertArgs& args) {
       const uint64_t file_index = k < read_summary.file_strand_index.size()
                                       ? read_summary.file_strand_index[k]
                                       : static_cast<uint64_t>(k);
-      PrintError(args.target_path + ": strand " + std::to_string(file_index) + ", " + error);
+      if (!body_failed()) {
+        PrintError(args.target_path + ": strand " + std::to_string(file_index) + ", " + error);
+      }
       return kExitBadInput;
     }
     for (const HelixFit& fit : fits) {
@@ -241,12 +278,14 @@ int RunInvert(const InvertArgs& args) {
       sample_arc_lengths.push_back(fit.arc_lengths);
     }
   } else {
+    if (body_failed()) return kExitBadInput;
     PrintError(args.target_path + ": unknown target format \"" + extension +
                "\" (expected .json: a ringlet result or masters file, or polylines: .hair, "
                ".data, .usda or .obj)");
     return kExitBadInput;
   }
   const double fit_seconds = SecondsSince(fit_start);
+  if (body_failed()) return kExitBadInput;
   for (size_t i = 0; i < models.size(); ++i) {
     // The hair type's section, material and natural curl (or the paper's defaults).
     if (!ApplyInverseHairType(args.hair_type, i, &models[i], &error)) {
@@ -273,32 +312,79 @@ int RunInvert(const InvertArgs& args) {
   invert_bar.Finish();
   const double invert_seconds = SecondsSince(invert_start);
 
-  // Outputs, encoded before anything is written.
-  HairCurves equilibrium, naive;
+  // Outputs, encoded before anything is written. Each file is encoded by its own task (the
+  // scene, the masters and the summary are ~5 s of serial work for 50,000 strands), the curves
+  // strand by strand in parallel; every output is the same on any thread count.
+  tbb::task_arena arena(args.threads > 0 ? args.threads : tbb::task_arena::automatic);
   std::vector<StrandModel> inverted = models;
   for (size_t i = 0; i < models.size(); ++i) {
-    const InverseResult& r = results[i];
-    inverted[i].rest_curvatures = r.rest_curvatures;
-    inverted[i].contact.support_offsets = r.support_offsets;
-    for (auto [curves, q] : {std::pair{&equilibrium, &r.equilibrium},
-                             std::pair{&naive, &r.naive_equilibrium}}) {
-      if (curves == &naive && args.no_naive) continue;
-      // At the target's points (a point per target point, at its arc length on the fitted
-      // curve), or k points per helical segment (--points-per-segment; exact targets: 4).
-      const std::vector<Vec3> points =
-          args.points_per_segment == 0 && i < sample_arc_lengths.size()
-              ? SampleCentrelineAt(models[i], *q, sample_arc_lengths[i])
-              : SampleCentreline(models[i], *q,
-                                 args.points_per_segment > 0 ? args.points_per_segment : 4);
-      curves->point_counts.push_back(static_cast<uint32_t>(points.size()));
-      for (const Vec3& p : points) {
+    inverted[i].rest_curvatures = results[i].rest_curvatures;
+    inverted[i].contact.support_offsets = results[i].support_offsets;
+  }
+  // Per strand, its points in equilibrium.hair and naive.hair: at the target's points (a point
+  // per target point, at its arc length on the fitted curve), or k points per helical segment
+  // (--points-per-segment; exact targets: 4).
+  std::vector<std::vector<Vec3>> equilibrium_points(models.size()), naive_points(models.size());
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, models.size()),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t i = range.begin(); i < range.end(); ++i) {
+                          const InverseResult& r = results[i];
+                          const auto sample = [&](const VecX& q) {
+                            return args.points_per_segment == 0 && i < sample_arc_lengths.size()
+                                       ? SampleCentrelineAt(models[i], q, sample_arc_lengths[i])
+                                       : SampleCentreline(models[i], q,
+                                                          args.points_per_segment > 0
+                                                              ? args.points_per_segment
+                                                              : 4);
+                          };
+                          equilibrium_points[i] = sample(r.equilibrium);
+                          if (!args.no_naive) naive_points[i] = sample(r.naive_equilibrium);
+                        }
+                      });
+  });
+  HairCurves equilibrium, naive;
+  for (auto [curves, points] :
+       {std::pair{&equilibrium, &equilibrium_points}, std::pair{&naive, &naive_points}}) {
+    if (curves == &naive && args.no_naive) continue;
+    for (size_t i = 0; i < models.size(); ++i) {
+      const std::vector<Vec3>& strand = (*points)[i];
+      curves->point_counts.push_back(static_cast<uint32_t>(strand.size()));
+      for (const Vec3& p : strand) {
         curves->points.push_back(p.cast<float>());
         curves->widths.push_back(static_cast<float>(2.0 * models[i].section.MeanRadius()));
       }
     }
+    std::vector<std::vector<Vec3>>().swap(*points);  // copied into the curves: freed
   }
-  nlohmann::ordered_json summary =
-      InversionSummary(models, results, fit_max, fit_rms, fit_seconds, invert_seconds);
+  nlohmann::ordered_json summary;
+  std::string scene_text;
+  std::vector<std::pair<std::string, std::string>> hair_files(2), hairstyle_files;
+  std::string hair_errors[2];
+  HairFileOptions hair_options;
+  hair_options.units_per_metre = args.units_per_metre;
+  arena.execute([&] {
+    tbb::task_group group;
+    group.run([&] {
+      summary = InversionSummary(models, results, fit_max, fit_rms, fit_seconds, invert_seconds);
+    });
+    group.run([&] { scene_text = SceneToString(inverted); });
+    if (!args.body_path.empty()) {
+      group.run([&] { AddHairstyleOutputs(args, inverted, targets, &hairstyle_files); });
+    }
+    for (int k = 0; k < 2; ++k) {
+      if (k == 1 && args.no_naive) continue;
+      group.run([&, k] {
+        hair_files[static_cast<size_t>(k)].first = k == 0 ? "equilibrium.hair" : "naive.hair";
+        if (!EncodeHairFile(k == 0 ? equilibrium : naive, hair_options,
+                            &hair_files[static_cast<size_t>(k)].second,
+                            &hair_errors[static_cast<size_t>(k)])) {
+          hair_files[static_cast<size_t>(k)].first.clear();
+        }
+      });
+    }
+    group.wait();
+  });
   const int n = summary["strands"].get<int>();
   const int unstable = summary["unstable"].get<int>();
   const int unconverged = summary["unconverged"].get<int>();
@@ -316,20 +402,17 @@ int RunInvert(const InvertArgs& args) {
     for (auto& strand : summary["strand_results"]) strand.erase("naive_deviation");
   }
   std::vector<std::pair<std::string, std::string>> files;
-  files.emplace_back("rest_shapes.json", SceneToString(inverted));
-  HairFileOptions hair_options;
-  hair_options.units_per_metre = args.units_per_metre;
-  for (auto [name, curves] : {std::pair{"equilibrium.hair", &equilibrium},
-                              std::pair{"naive.hair", &naive}}) {
-    if (curves == &naive && args.no_naive) continue;
-    std::string bytes;
-    if (!EncodeHairFile(*curves, hair_options, &bytes, &error)) {
-      PrintError(std::string(name) + ": " + error);
+  files.emplace_back("rest_shapes.json", std::move(scene_text));
+  for (int k = 0; k < 2; ++k) {
+    if (k == 1 && args.no_naive) continue;
+    if (hair_files[static_cast<size_t>(k)].first.empty()) {
+      PrintError(std::string(k == 0 ? "equilibrium.hair" : "naive.hair") + ": " +
+                 hair_errors[static_cast<size_t>(k)]);
       return kExitBadInput;
     }
-    files.emplace_back(name, std::move(bytes));
+    files.push_back(std::move(hair_files[static_cast<size_t>(k)]));
   }
-  if (!args.body_path.empty()) AddHairstyleOutputs(args, inverted, targets, &files);
+  for (auto& file : hairstyle_files) files.push_back(std::move(file));
   summary["seconds"] = SecondsSince(start);
   files.emplace_back("summary.json", summary.dump(1) + "\n");
   if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {

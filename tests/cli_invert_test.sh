@@ -185,6 +185,19 @@ bad "no curvatures" "strands[0].curvatures" "$work/empty.json"
 bad "unknown format" "unknown target format" "$work/targets.txt"
 bad "bad --up" "--up" "$work/targets.json" --up x
 bad "bad hair type" "--hair-type" "$work/targets.json" --hair-type martian
+# The body loads while the targets are read and fitted: its error still comes first, alone, with
+# a good target, a target that cannot be read, one whose fit fails and one of an unknown format;
+# a bad target with a good body reports the target.
+echo '{"spheres": [{"name": "head", "center": [0, 0, 0], "radius": -1}]}' >"$work/bad_body.json"
+for target in "$work/targets.json" "$work/truncated.hair" "$work/repeat.hair" \
+  "$work/targets.txt"; do
+  bad "missing body, target $(basename "$target")" "nobody.json" "$target" --body "$work/nobody.json"
+  bad "bad body, target $(basename "$target")" "bad_body.json" "$target" --body "$work/bad_body.json"
+done
+bad "truncated .hair with a body" "truncated.hair: header" "$work/truncated.hair" \
+  --body "$EXAMPLES/bodies/mannequin.json"
+bad "repeated point with a body" "strand 0, point 2: repeated point" "$work/repeat.hair" \
+  --body "$EXAMPLES/bodies/mannequin.json"
 
 # --------------------------------------------------------------------------------------------
 if [ "$failures" -ne 0 ]; then

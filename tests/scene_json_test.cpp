@@ -1243,6 +1243,31 @@ TEST(AtomicFile, WriteFilesRemovesTheDirectoriesItCreatedOnFailure) {
   EXPECT_TRUE(dir.Entries().empty());
 }
 
+// The files are written side by side (a thread each): every one in full, and of several that
+// fail the first in order is reported, as one writer after the other would.
+TEST(AtomicFile, WriteFilesWritesManyFilesSideBySide) {
+  TempDirectory dir;
+  std::vector<std::pair<std::string, std::string>> files;
+  for (int k = 0; k < 20; ++k) {
+    const char fill = static_cast<char>('a' + k % 26);
+    files.emplace_back("f" + std::to_string(k), std::string(static_cast<size_t>(1000 * k), fill));
+  }
+  std::string error;
+  ASSERT_TRUE(WriteFilesAtomically(dir.path(), files, false, &error)) << error;
+  for (const auto& [name, contents] : files) EXPECT_EQ(ReadAll(dir.path() + "/" + name), contents);
+  EXPECT_EQ(dir.Entries().size(), files.size());
+}
+
+TEST(AtomicFile, WriteFilesReportsTheFirstFailingFileInOrder) {
+  TempDirectory dir;
+  std::string error;
+  EXPECT_FALSE(WriteFilesAtomically(
+      dir.path(), {{"one", "1"}, {"a/two", "2"}, {"three", "3"}, {"b/four", "4"}}, false, &error));
+  EXPECT_EQ(error.find(dir.path() + "/a/two: cannot create a temporary file"), 0u) << error;
+  EXPECT_NE(error.find("(nothing was written)"), std::string::npos) << error;
+  EXPECT_TRUE(dir.Entries().empty());
+}
+
 TEST(AtomicFile, WriteFilesRefusesExistingFilesWithoutOverwrite) {
   TempDirectory dir;
   std::ofstream(dir.path() + "/two") << "keep";

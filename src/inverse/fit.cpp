@@ -39,15 +39,18 @@ constexpr double kStepTolerance = 1e-15;
 // edge leaves a direction free).
 constexpr double kMinimumDamping = 1e-12;
 // The automatic segment count's global refinement also stops when a step lowers the cost by less
-// than kDecidedDecrease of it while the fit's largest distance is within the tolerance or more
-// than kFarFactor times it: the slow final descent (a cost floor approached linearly: ~0.3 % per
-// iteration for dozens of iterations on 16-segment fits of 32 float points) no longer changes
-// whether the count is kept. Measured on 1,000 wavy strands of the head (docs/benchmarks.md):
-// the same segment counts, largest distances within 1 % of the full descent for half of the
-// strands (at most 1.44x, all within the tolerance), mean RMS distance 1.01x, refinement
-// iterations 26 -> 12 at 16 segments. Between the tolerance and kFarFactor times it the full
-// descent (kRelativeDecrease) decides.
-constexpr double kDecidedDecrease = 3e-3;
+// than kDecidedDecrease of it while the fit's largest distance is within the tolerance (the
+// count is kept), or by less than kDecidedDecreaseFar while it is more than kFarFactor times the
+// tolerance (the count is rejected): the slow final descent (a cost floor approached linearly:
+// ~0.3 % per iteration for dozens of iterations on 16-segment fits of 32 float points) no longer
+// changes whether the count is kept. Between the tolerance and kFarFactor times it the full
+// descent (kRelativeDecrease) decides. Measured on wavy strands of the head (docs/benchmarks.md):
+// 3e-3 for both gave the same segment counts as the full descent on 1,000 strands, refinement
+// iterations 26 -> 12 at 16 segments; 1e-2 and 3e-2 then cut the fit's instructions by 17 %
+// (100 strands) with 4 of 5,000 strands one count lower (all still within the tolerance), the
+// largest distance of the same count 1.0006x the 3e-3 one (median), mean RMS distance 1.045x.
+constexpr double kDecidedDecrease = 1e-2;
+constexpr double kDecidedDecreaseFar = 3e-2;
 constexpr double kFarFactor = 2.0;
 // Segments fitted together in the root-to-tip pass (FitWithSegments).
 constexpr int kWindow = 2;
@@ -327,9 +330,15 @@ struct Stage {
   Vec4 offset = Vec4::Zero();
 };
 
-// Adds a residual row block J = [C (3x6) | D (3x4) | e (3x1)] to the stage.
+// Adds a residual row block J = [C (3x6) | D (3x4) | e (3x1)] to the stage. C's first 3 columns
+// are the identity (a residual moves with the segment's start), so the first 3 rows of J^T J
+// are J itself and only the lower right 8 x 8 block is a product: the same sums as the full
+// 11 x 11 product (whose identity terms add exact zeros), in half of its multiplications.
 void AddResidual(const Eigen::Matrix<double, 3, 11>& j, const Vec3* tangent, Stage* s) {
-  s->f.noalias() += j.transpose().lazyProduct(j);  // coefficient-based: no GEMM blocking
+  const auto rest = j.rightCols<8>();
+  s->f.topRows<3>() += j;
+  s->f.bottomLeftCorner<8, 3>() += rest.transpose();
+  s->f.bottomRightCorner<8, 8>().noalias() += rest.transpose().lazyProduct(rest);
   if (tangent) {
     const Vec11 g = j.transpose() * *tangent;
     s->t.noalias() += g * g.transpose();
@@ -510,8 +519,9 @@ void Step(const Chain& c, const std::vector<int>& b, std::vector<Stage>* stages,
 
 // Levenberg-Marquardt on the whole chain from c; returns the iterations made. With accept > 0
 // (the largest allowed distance, m, of the automatic segment count), it also stops once a step
-// lowers the cost by less than kDecidedDecrease of it and the largest distance is decided: within
-// accept (the fit is kept) or beyond kFarFactor accept (the count is rejected).
+// lowers the cost by less than kDecidedDecrease of it with the largest distance within accept
+// (the fit is kept), or by less than kDecidedDecreaseFar of it with the largest distance beyond
+// kFarFactor accept (the count is rejected).
 int RefineChain(const std::vector<Vec3>& points, const std::vector<int>& b, bool free_root,
                 int max_iterations, double relative_decrease, Chain* c, double accept = 0.0) {
   std::vector<Stage> stages;
@@ -547,8 +557,10 @@ int RefineChain(const std::vector<Vec3>& points, const std::vector<int>& b, bool
         // Converged when a step no longer changes the cost (relative): the noise floor of a
         // polyline that is no piecewise helix, or rounding.
         if (decrease <= relative_decrease * (cost + decrease)) tiny = true;
-        if (accept > 0.0 && decrease <= kDecidedDecrease * (cost + decrease) &&
-            (worst <= accept * accept || worst > kFarFactor * kFarFactor * accept * accept)) {
+        if (accept > 0.0 &&
+            ((worst <= accept * accept && decrease <= kDecidedDecrease * (cost + decrease)) ||
+             (worst > kFarFactor * kFarFactor * accept * accept &&
+              decrease <= kDecidedDecreaseFar * (cost + decrease)))) {
           tiny = true;
         }
         break;

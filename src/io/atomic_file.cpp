@@ -14,6 +14,8 @@
 #include <cstdio>
 #include <cstring>
 #include <random>
+#include <system_error>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -415,20 +417,47 @@ bool WriteFilesAtomically(const std::string& directory,
     created.push_back(*it);
   }
   // 1. Every file in full to its temporary: a failure (disk full, a bad path) rolls everything
-  // back, and nothing the user had is touched.
+  // back, and nothing the user had is touched. The paths are checked first, in order; then the
+  // files are written and flushed each by its own thread (copying and flushing hundreds of MB,
+  // `ringlet invert` of a full head, is then bounded by the largest file, not by their sum),
+  // and a failure reports the first failing file in order, as one writer after the other would.
   for (const auto& [name, contents] : files) {
-    const std::string path = directory + "/" + name;
-    if (!CheckReplaceable(path, overwrite, error)) {
+    if (!CheckReplaceable(directory + "/" + name, overwrite, error)) {
       roll_back();
       if (error) *error += " (nothing was written)";
       return false;
     }
-    staged.emplace_back();
-    if (!Stage(path, [&contents = contents](const FileSink& sink) { sink(contents); },
-               &staged.back(), error)) {
-      staged.pop_back();
+  }
+  std::vector<Staged> writing(files.size());
+  std::vector<std::string> reasons(files.size());
+  std::vector<char> written(files.size(), 0);
+  {
+    const auto stage = [&](size_t k) {
+      const std::string& contents = files[k].second;
+      written[k] = Stage(directory + "/" + files[k].first,
+                         [&contents](const FileSink& sink) { sink(contents); }, &writing[k],
+                         &reasons[k])
+                       ? 1
+                       : 0;
+    };
+    std::vector<std::thread> threads;
+    for (size_t k = 1; k < files.size(); ++k) {
+      try {
+        threads.emplace_back(stage, k);
+      } catch (const std::system_error&) {  // no thread to be had: this one writes it
+        stage(k);
+      }
+    }
+    if (!files.empty()) stage(0);
+    for (std::thread& t : threads) t.join();
+  }
+  for (size_t k = 0; k < files.size(); ++k) {
+    if (written[k]) staged.push_back(std::move(writing[k]));
+  }
+  for (size_t k = 0; k < files.size(); ++k) {
+    if (!written[k]) {
       roll_back();
-      if (error) *error += " (nothing was written)";
+      if (error) *error = reasons[k] + " (nothing was written)";
       return false;
     }
   }
