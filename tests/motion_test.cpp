@@ -153,6 +153,26 @@ TEST(MotionJson, ReadsKeyframesInDegrees) {
   EXPECT_EQ(motion.pivot(), Vec3(1, 2, 3));
 }
 
+// The example motion files (examples/motions, also the fuzz seeds of tests/fuzz): they load and
+// pass through their keyframes (Rodrigues' rotation of the file's axis and angle).
+TEST(MotionJson, ExampleFilesLoadAndHitTheirKeyframes) {
+  const std::string dir = std::string(RINGLET_EXAMPLES_DIR) + "/motions/";
+  HeadMotion motion;
+  std::string error;
+  ASSERT_TRUE(LoadMotion(dir + "look_left.json", Vec3::Zero(), &motion, &error)) << error;
+  EXPECT_EQ(motion.pivot(), Vec3(0, 0, -0.1));
+  ASSERT_EQ(motion.keyframes().size(), 3u);
+  EXPECT_LT((motion.Pose(0.4).rotation - Rodrigues(Vec3::UnitZ(), 40.0 * kDeg)).norm(), 1e-14);
+  EXPECT_LT((motion.Pose(0.4).translation - Vec3(0, 0, 0.01)).norm(), 1e-16);
+  EXPECT_LT((motion.Pose(1.0).rotation - Mat3::Identity()).norm(), 1e-14);
+  ASSERT_TRUE(LoadMotion(dir + "nod_and_step.json", Vec3(0, 0, -0.2), &motion, &error)) << error;
+  EXPECT_EQ(motion.pivot(), Vec3(0, 0, -0.2));  // the default pivot: the file gives none
+  ASSERT_EQ(motion.keyframes().size(), 6u);
+  EXPECT_LT((motion.Pose(0.5).rotation - Rodrigues(Vec3::UnitX(), -5.0 * kDeg)).norm(), 1e-14);
+  EXPECT_LT((motion.Pose(0.75).translation - Vec3(0, 0.08, 0.01)).norm(), 1e-16);
+  ExpectProperRotation(motion.Pose(0.6).rotation);
+}
+
 TEST(MotionJson, BadFilesNameTheField) {
   const std::pair<const char*, const char*> cases[] = {
       {R"({"keyframes": [{"time": 0}, {"time": 0}]})", "keyframes[1].time: expected a time after"},
