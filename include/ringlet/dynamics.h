@@ -197,21 +197,11 @@ class StrandDynamics {
   double last_update_ = 0.0;  // the last Newton update of TryStep (rad)
 
   // Buffers of the time step (the incremental potential, its kinematics, the Newton matrix and
-  // its factor), kept from step to step so that a step allocates nothing once warm. A copy of
-  // the object starts with none; a move takes them along (they refer to nothing in the object).
+  // its factor): one set per thread, reused by every strand stepped on that thread, so that a
+  // step allocates nothing once warm and the buffers stay in cache however many strands there
+  // are (dynamics.cpp). They hold nothing from one step to the next.
   struct Scratch;
-  class ScratchHolder {
-   public:
-    ScratchHolder();
-    ~ScratchHolder();
-    ScratchHolder(const ScratchHolder&);
-    ScratchHolder& operator=(const ScratchHolder&);
-    ScratchHolder(ScratchHolder&&) noexcept;
-    ScratchHolder& operator=(ScratchHolder&&) noexcept;
-    std::unique_ptr<Scratch> scratch;
-  };
-  Scratch& GetScratch();
-  ScratchHolder scratch_;
+  Scratch& BindScratch() const;
 };
 
 }  // namespace ringlet

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <utility>
 #include <stdexcept>
@@ -442,36 +443,38 @@ EnergyTerms StrandDynamics::Potential() const {
   return terms;
 }
 
-// The buffers of the time step (dynamics.h, StrandDynamics::Scratch): the model at the end of
-// the step and the rule live here, so that the incremental potential's references stay valid
-// when the StrandDynamics moves.
+// The buffers of the time step (dynamics.h, StrandDynamics::Scratch), one per thread. The model
+// at the end of the step, the options and the rule live here, so that the incremental
+// potential's references stay valid; BindScratch copies the stepping strand's model and options
+// in before each use (the copies reuse their storage), so that nothing of another strand is
+// left. Everything else is overwritten before it is read in each step.
 struct StrandDynamics::Scratch {
-  Scratch(const StrandModel& model, const DynamicsOptions& dynamics_options)
-      : options(dynamics_options), stepped(model), rule(GaussLegendre01(options.mass_points)),
-        phi(stepped, options, rule) {}
   DynamicsOptions options;
   StrandModel stepped;  // the model at the end of the step: root and obstacle where the clamp is
   GaussRule rule;
-  IncrementalPotential phi;
+  int points = 0;    // options.mass_points of rule
+  int segments = -1;  // the segment count phi was made for (its energy's workspace)
+  std::optional<IncrementalPotential> phi;
   StrandHessian matrix;
   StrandHessianFactor factor;
   VecX q, gradient, rhs, step, trial, trial_gradient;
 };
 
-StrandDynamics::ScratchHolder::ScratchHolder() = default;
-StrandDynamics::ScratchHolder::~ScratchHolder() = default;
-StrandDynamics::ScratchHolder::ScratchHolder(const ScratchHolder&) {}
-StrandDynamics::ScratchHolder& StrandDynamics::ScratchHolder::operator=(const ScratchHolder&) {
-  scratch.reset();
-  return *this;
-}
-StrandDynamics::ScratchHolder::ScratchHolder(ScratchHolder&&) noexcept = default;
-StrandDynamics::ScratchHolder& StrandDynamics::ScratchHolder::operator=(ScratchHolder&&) noexcept =
-    default;
-
-StrandDynamics::Scratch& StrandDynamics::GetScratch() {
-  if (!scratch_.scratch) scratch_.scratch = std::make_unique<Scratch>(model_, options_);
-  return *scratch_.scratch;
+StrandDynamics::Scratch& StrandDynamics::BindScratch() const {
+  thread_local std::unique_ptr<Scratch> scratch;
+  if (!scratch) scratch = std::make_unique<Scratch>();
+  Scratch& w = *scratch;
+  w.options = options_;
+  w.stepped = model_;
+  if (w.points != options_.mass_points) {
+    w.rule = GaussLegendre01(options_.mass_points);
+    w.points = options_.mass_points;
+  }
+  if (w.segments != model_.NumSegments() || !w.phi) {
+    w.phi.emplace(w.stepped, w.options, w.rule);
+    w.segments = model_.NumSegments();
+  }
+  return w;
 }
 
 namespace {
@@ -491,21 +494,18 @@ constexpr int kChordPower = 3;
 }  // namespace
 
 bool StrandDynamics::TryStep(double h, int* iterations, int* factorizations, std::string* why) {
-  Scratch& w = GetScratch();
+  Scratch& w = BindScratch();
   // BDF2 needs the previous state one step of the same length back; otherwise (the first step,
   // after a halving) backward Euler starts it again.
   const bool bdf2 = options_.integrator == Integrator::kBdf2 && has_history_ && previous_h_ == h;
   // The model at the end of the step: the clamp where its motion puts it then (the rest of the
   // model never changes).
   StrandModel& stepped = w.stepped;
-  stepped.root_position = model_.root_position;
-  stepped.root_frame = model_.root_frame;
-  stepped.contact.obstacle = model_.contact.obstacle;
   if (clamp_.position && !PlaceClamp(state_.time + h, &stepped)) {
     *why = "the clamp motion gave a non-finite position or frame";
     return false;
   }
-  IncrementalPotential& phi = w.phi;
+  IncrementalPotential& phi = *w.phi;
   phi.Begin(state_, motion_, bdf2 ? &previous_ : nullptr, bdf2 ? &previous_motion_ : nullptr, h);
   const int n = model_.NumSegments();
   VecX& q = w.q;
@@ -633,7 +633,7 @@ void StrandDynamics::Accept(const StrandModel& stepped, const VecX& q, double h,
   VecX rates = bdf2 ? VecX((3.0 * q - 4.0 * state_.curvatures + previous_.curvatures) / (2.0 * h))
                     : VecX((q - state_.curvatures) / h);
   SampleMotion next;
-  SamplePlaces(stepped, q, GetScratch().rule, &next);
+  SamplePlaces(stepped, q, GaussLegendre01(options_.mass_points), &next);
   const size_t count = next.positions.size();
   next.velocities.resize(count);
   next.director_velocities.resize(count);
@@ -739,13 +739,8 @@ StepReport StrandDynamics::Step(double h) {
     }
   }
   report.time = state_.time;
-  // The potential with the model as it is now (the step's model after a step: same root and
-  // obstacle).
-  Scratch& w = GetScratch();
-  w.stepped.root_position = model_.root_position;
-  w.stepped.root_frame = model_.root_frame;
-  w.stepped.contact.obstacle = model_.contact.obstacle;
-  report.potential = w.phi.Potential(state_.curvatures);
+  // The potential with the model as it is now.
+  report.potential = BindScratch().phi->Potential(state_.curvatures);
   report.kinetic = Kinetic();
   return report;
 }
