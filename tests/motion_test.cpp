@@ -173,6 +173,33 @@ TEST(MotionJson, ExampleFilesLoadAndHitTheirKeyframes) {
   ExpectProperRotation(motion.Pose(0.6).rotation);
 }
 
+// Found by fuzz_motion_json: a translation of 1e308 m was accepted and the spline overflowed to a
+// non-finite pose. Translations are bounded (1e6 m), and keyframes however close in time give
+// finite poses and proper rotations between them.
+TEST(MotionJson, HugeTranslationsAreRefusedAndCloseKeyframesStayFinite) {
+  HeadMotion motion;
+  std::string error;
+  EXPECT_FALSE(ParseMotionText(
+      R"({"keyframes": [{"time": 0}, {"time": 0.25, "translation": [0, 1e+308, 0.01]}, {"time": 0.5}]})",
+      Vec3::Zero(), &motion, &error));
+  EXPECT_NE(error.find("keyframes[1].translation: expected 3 numbers of magnitude at most 1e6"),
+            std::string::npos)
+      << error;
+  ASSERT_TRUE(ParseMotionText(
+      R"({"keyframes": [{"time": 0, "translation": [1e6, -1e6, 1e6]},
+                        {"time": 1e-300, "translation": [-1e6, 1e6, -1e6], "axis": [1, 0, 0], "angle": 170},
+                        {"time": 2e-300, "angle": 10},
+                        {"time": 1, "translation": [1e6, 1e6, 1e6]}]})",
+      Vec3::Zero(), &motion, &error))
+      << error;
+  for (const double t : {0.5e-300, 1.5e-300, 0.5}) {
+    const RigidPose pose = motion.Pose(t);
+    EXPECT_TRUE(pose.translation.allFinite()) << t;
+    EXPECT_LE(pose.translation.cwiseAbs().maxCoeff(), 3e6) << t;
+    ExpectProperRotation(pose.rotation);
+  }
+}
+
 TEST(MotionJson, BadFilesNameTheField) {
   const std::pair<const char*, const char*> cases[] = {
       {R"({"keyframes": [{"time": 0}, {"time": 0}]})", "keyframes[1].time: expected a time after"},
