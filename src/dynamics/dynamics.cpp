@@ -740,7 +740,10 @@ StepReport StrandDynamics::Step(double h) {
   }
   report.time = state_.time;
   // The potential with the model as it is now.
-  report.potential = BindScratch().phi->Potential(state_.curvatures);
+  Scratch& w = BindScratch();
+  report.potential = w.phi->Potential(state_.curvatures);
+  // The thread's buffers keep no body alive past the step (a body may be large: a distance grid).
+  w.stepped.contact.obstacle.reset();
   report.kinetic = Kinetic();
   return report;
 }
