@@ -153,6 +153,53 @@ TEST(MotionJson, ReadsKeyframesInDegrees) {
   EXPECT_EQ(motion.pivot(), Vec3(1, 2, 3));
 }
 
+// The example motion files (examples/motions, also the fuzz seeds of tests/fuzz): they load and
+// pass through their keyframes (Rodrigues' rotation of the file's axis and angle).
+TEST(MotionJson, ExampleFilesLoadAndHitTheirKeyframes) {
+  const std::string dir = std::string(RINGLET_EXAMPLES_DIR) + "/motions/";
+  HeadMotion motion;
+  std::string error;
+  ASSERT_TRUE(LoadMotion(dir + "look_left.json", Vec3::Zero(), &motion, &error)) << error;
+  EXPECT_EQ(motion.pivot(), Vec3(0, 0, -0.1));
+  ASSERT_EQ(motion.keyframes().size(), 3u);
+  EXPECT_LT((motion.Pose(0.4).rotation - Rodrigues(Vec3::UnitZ(), 40.0 * kDeg)).norm(), 1e-14);
+  EXPECT_LT((motion.Pose(0.4).translation - Vec3(0, 0, 0.01)).norm(), 1e-16);
+  EXPECT_LT((motion.Pose(1.0).rotation - Mat3::Identity()).norm(), 1e-14);
+  ASSERT_TRUE(LoadMotion(dir + "nod_and_step.json", Vec3(0, 0, -0.2), &motion, &error)) << error;
+  EXPECT_EQ(motion.pivot(), Vec3(0, 0, -0.2));  // the default pivot: the file gives none
+  ASSERT_EQ(motion.keyframes().size(), 6u);
+  EXPECT_LT((motion.Pose(0.5).rotation - Rodrigues(Vec3::UnitX(), -5.0 * kDeg)).norm(), 1e-14);
+  EXPECT_LT((motion.Pose(0.75).translation - Vec3(0, 0.08, 0.01)).norm(), 1e-16);
+  ExpectProperRotation(motion.Pose(0.6).rotation);
+}
+
+// Found by fuzz_motion_json: a translation of 1e308 m was accepted and the spline overflowed to a
+// non-finite pose. Translations are bounded (1e6 m), and keyframes however close in time give
+// finite poses and proper rotations between them.
+TEST(MotionJson, HugeTranslationsAreRefusedAndCloseKeyframesStayFinite) {
+  HeadMotion motion;
+  std::string error;
+  EXPECT_FALSE(ParseMotionText(
+      R"({"keyframes": [{"time": 0}, {"time": 0.25, "translation": [0, 1e+308, 0.01]}, {"time": 0.5}]})",
+      Vec3::Zero(), &motion, &error));
+  EXPECT_NE(error.find("keyframes[1].translation: expected 3 numbers of magnitude at most 1e6"),
+            std::string::npos)
+      << error;
+  ASSERT_TRUE(ParseMotionText(
+      R"({"keyframes": [{"time": 0, "translation": [1e6, -1e6, 1e6]},
+                        {"time": 1e-300, "translation": [-1e6, 1e6, -1e6], "axis": [1, 0, 0], "angle": 170},
+                        {"time": 2e-300, "angle": 10},
+                        {"time": 1, "translation": [1e6, 1e6, 1e6]}]})",
+      Vec3::Zero(), &motion, &error))
+      << error;
+  for (const double t : {0.5e-300, 1.5e-300, 0.5}) {
+    const RigidPose pose = motion.Pose(t);
+    EXPECT_TRUE(pose.translation.allFinite()) << t;
+    EXPECT_LE(pose.translation.cwiseAbs().maxCoeff(), 3e6) << t;
+    ExpectProperRotation(pose.rotation);
+  }
+}
+
 TEST(MotionJson, BadFilesNameTheField) {
   const std::pair<const char*, const char*> cases[] = {
       {R"({"keyframes": [{"time": 0}, {"time": 0}]})", "keyframes[1].time: expected a time after"},

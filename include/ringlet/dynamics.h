@@ -78,6 +78,9 @@ struct StepReport {
   int substeps = 0;            ///< implicit sub-steps taken (1 without halving)
   int halvings = 0;            ///< deepest halving used (0 = the full step)
   int newton_iterations = 0;   ///< over all sub-steps, failed tries included
+  /// Newton matrices built and factored over all sub-steps (at most newton_iterations: a chord
+  /// iteration reuses the last factor, docs/dynamics.md "Time step").
+  int factorizations = 0;
   /// The size of the last Newton update of the last sub-step, sum_i l_i |dOmega_i| (rad): below
   /// options.tolerance when converged (0 when the step failed).
   double residual = 0.0;
@@ -173,7 +176,7 @@ class StrandDynamics {
   };
 
  private:
-  bool TryStep(double h, int* iterations, std::string* why);
+  bool TryStep(double h, int* iterations, int* factorizations, std::string* why);
   // Puts the root (and with carries_obstacle the obstacle) of *model where the clamp is at t.
   bool PlaceClamp(double t, StrandModel* model) const;
   void Accept(const StrandModel& stepped, const VecX& curvatures, double h, bool bdf2);
@@ -192,6 +195,13 @@ class StrandDynamics {
   Mat3 reference_frame_ = Mat3::Identity();
   std::shared_ptr<const Obstacle> reference_obstacle_;
   double last_update_ = 0.0;  // the last Newton update of TryStep (rad)
+
+  // Buffers of the time step (the incremental potential, its kinematics, the Newton matrix and
+  // its factor): one set per thread, reused by every strand stepped on that thread, so that a
+  // step allocates nothing once warm and the buffers stay in cache however many strands there
+  // are (dynamics.cpp). They hold nothing from one step to the next.
+  struct Scratch;
+  Scratch& BindScratch() const;
 };
 
 }  // namespace ringlet

@@ -27,6 +27,10 @@ struct MotionKeyframe {
   double angle = 0.0;                  ///< rotation angle about axis (rad, right-handed)
 };
 
+/// Largest translation a keyframe may hold, per component (m): far beyond any head motion, and
+/// small enough that the spline's sums cannot overflow.
+inline constexpr double kMaxTranslation = 1e6;
+
 /// The presets of `ringlet simulate --motion` (docs/dynamics.md, "Presets").
 enum class MotionPreset {
   kNone,   ///< the head stays still
@@ -65,8 +69,9 @@ class HeadMotion {
   /// A preset about pivot with the head's up and left axes (unit vectors, orthogonal).
   static HeadMotion Preset(MotionPreset preset, const Vec3& pivot, const Vec3& up,
                            const Vec3& left);
-  /// Keyframes (at least one, times >= 0 and strictly increasing, axes finite and non-zero,
-  /// consecutive orientations less than 180 degrees apart) about pivot. Throws
+  /// Keyframes (at least one, times >= 0 and strictly increasing, translations of at most
+  /// kMaxTranslation per component, axes finite and non-zero, consecutive orientations less
+  /// than 180 degrees apart) about pivot. Throws
   /// std::invalid_argument naming keyframes[k] and the field otherwise.
   static HeadMotion Keyframes(std::vector<MotionKeyframe> keyframes, const Vec3& pivot);
 

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <utility>
 #include <stdexcept>
@@ -239,12 +240,17 @@ StrandDynamics::SampleMotion MotionFromRates(const StrandModel& model, const Str
 // x_(n+1) - 4/3 x_n + 1/3 x_(n-1) = 2h/3 x'_(n+1)).
 class IncrementalPotential {
  public:
+  // Bound to the model at the end of the step (its root and obstacle are updated between steps;
+  // the segment count never changes), the options and the mass samples' rule.
   IncrementalPotential(const StrandModel& model, const DynamicsOptions& options,
-                       const GaussRule& rule, const StrandState& start,
-                       const StrandDynamics::SampleMotion& now, const StrandState* previous,
-                       const StrandDynamics::SampleMotion* before, double h)
-      : model_(model), options_(options), rule_(rule), energy_(model),
-        root_(model.root_position) {
+                       const GaussRule& rule)
+      : model_(model), options_(options), rule_(rule), energy_(model) {}
+
+  // Sets up the step of length h from `start` (sample motion `now`; BDF2 with `previous` and
+  // `before` when given). The buffers are kept from step to step.
+  void Begin(const StrandState& start, const StrandDynamics::SampleMotion& now,
+             const StrandState* previous, const StrandDynamics::SampleMotion* before, double h) {
+    root_ = model_.root_position;
     const bool bdf2 = previous != nullptr;
     a_ = bdf2 ? 4.0 * h * h / 9.0 : h * h;
     c_ = bdf2 ? 1.5 / h : 1.0 / h;
@@ -267,20 +273,31 @@ class IncrementalPotential {
           (4.0 * now.directors[k] - before->directors[k]) / 3.0 +
           (2.0 * h / 3.0) * (4.0 * now.director_velocities[k] - before->director_velocities[k]) / 3.0;
     }
-    anchor_curvatures_ = bdf2 ? VecX((4.0 * start.curvatures - previous->curvatures) / 3.0)
-                              : start.curvatures;
-    extra_.resize(static_cast<size_t>(model.NumSegments()));
-    for (int i = 0; i < model.NumSegments(); ++i) {
-      extra_[static_cast<size_t>(i)] =
-          c_ * options.internal_friction * model.segment_lengths[static_cast<size_t>(i)];
+    if (bdf2) {
+      anchor_curvatures_ = (4.0 * start.curvatures - previous->curvatures) / 3.0;
+    } else {
+      anchor_curvatures_ = start.curvatures;
     }
+    extra_.resize(static_cast<size_t>(model_.NumSegments()));
+    for (int i = 0; i < model_.NumSegments(); ++i) {
+      extra_[static_cast<size_t>(i)] =
+          c_ * options_.internal_friction * model_.segment_lengths[static_cast<size_t>(i)];
+    }
+  }
+
+  // The potential energy terms at q (J), with the model's root and obstacle.
+  EnergyTerms Potential(const VecX& q) {
+    EnergyTerms terms;
+    energy_.Evaluate(q, nullptr, &terms);
+    return terms;
   }
 
   // Phi(q) and, when gradient is not null, dPhi/dq; kinematics at q are kept for the Newton
   // matrix.
   double Evaluate(const VecX& q, VecX* gradient) {
-    // Positions and frames only: the Jacobians are filled when the Newton matrix needs them.
-    ComputeKinematics(model_, q, rule_, &kin_, /*jacobians=*/false);
+    // The gradient goes through the twists and the samples' own Jacobians (kinematics.h), which
+    // the Newton matrix at this q then reuses; the value alone needs positions and frames only.
+    ComputeKinematics(model_, q, rule_, &kin_, /*jacobians=*/gradient != nullptr);
     const double line_density = model_.material.density * model_.section.Area();
     const double inv_a = 1.0 / a_;
     const size_t count = kin_.samples.size();
@@ -345,7 +362,7 @@ class IncrementalPotential {
   const GaussRule& rule_;
   double a_ = 0.0, c_ = 0.0;
   StrandEnergy energy_;
-  Vec3 root_;  // r(0) at the end of the step (m, world)
+  Vec3 root_ = Vec3::Zero();  // r(0) at the end of the step (m, world)
   std::vector<Vec3> anchor_positions_, predicted_positions_;
   std::vector<Mat3> predicted_directors_;
   VecX anchor_curvatures_;
@@ -426,56 +443,138 @@ EnergyTerms StrandDynamics::Potential() const {
   return terms;
 }
 
-bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
-  const GaussRule rule = GaussLegendre01(options_.mass_points);
+// The buffers of the time step (dynamics.h, StrandDynamics::Scratch), one per thread. The model
+// at the end of the step, the options and the rule live here, so that the incremental
+// potential's references stay valid; BindScratch copies the stepping strand's model and options
+// in before each use (the copies reuse their storage), so that nothing of another strand is
+// left. Everything else is overwritten before it is read in each step.
+struct StrandDynamics::Scratch {
+  DynamicsOptions options;
+  StrandModel stepped;  // the model at the end of the step: root and obstacle where the clamp is
+  GaussRule rule;
+  int points = 0;    // options.mass_points of rule
+  int segments = -1;  // the segment count phi was made for (its energy's workspace)
+  std::optional<IncrementalPotential> phi;
+  StrandHessian matrix;
+  StrandHessianFactor factor;
+  VecX q, gradient, rhs, step, trial, trial_gradient;
+};
+
+StrandDynamics::Scratch& StrandDynamics::BindScratch() const {
+  thread_local std::unique_ptr<Scratch> scratch;
+  if (!scratch) scratch = std::make_unique<Scratch>();
+  Scratch& w = *scratch;
+  w.options = options_;
+  w.stepped = model_;
+  if (w.points != options_.mass_points) {
+    w.rule = GaussLegendre01(options_.mass_points);
+    w.points = options_.mass_points;
+  }
+  if (w.segments != model_.NumSegments() || !w.phi) {
+    w.phi.emplace(w.stepped, w.options, w.rule);
+    w.segments = model_.NumSegments();
+  }
+  return w;
+}
+
+namespace {
+
+// Chord (modified) Newton (docs/dynamics.md, "Newton"): after a full step, the next update is
+// first solved with the factor of the last Newton matrix. It is kept when the iteration
+// contracts (ratio r = |update| / |previous update| <= kChordContraction) fast enough to reach
+// the tolerance within kChordPower more such updates, or the iterations left if fewer
+// (|update| r^power <= tolerance); otherwise the Newton matrix is built at the current point
+// and the update solved again (the rejected chord solve costs one back-substitution). Near the
+// solution a chord update differs from Newton's by O(|q - q_factor| |update|). Measured on
+// shaken heads (benchmarks.md): powers 2..4 build about half the matrices for 7-12 % more
+// updates; 3 is the middle.
+constexpr double kChordContraction = 0.5;
+constexpr int kChordPower = 3;
+
+}  // namespace
+
+bool StrandDynamics::TryStep(double h, int* iterations, int* factorizations, std::string* why) {
+  Scratch& w = BindScratch();
   // BDF2 needs the previous state one step of the same length back; otherwise (the first step,
   // after a halving) backward Euler starts it again.
   const bool bdf2 = options_.integrator == Integrator::kBdf2 && has_history_ && previous_h_ == h;
-  // The model at the end of the step: the clamp where its motion puts it then.
-  StrandModel stepped = model_;
+  // The model at the end of the step: the clamp where its motion puts it then (the rest of the
+  // model never changes).
+  StrandModel& stepped = w.stepped;
   if (clamp_.position && !PlaceClamp(state_.time + h, &stepped)) {
     *why = "the clamp motion gave a non-finite position or frame";
     return false;
   }
-  IncrementalPotential phi(stepped, options_, rule, state_, motion_, bdf2 ? &previous_ : nullptr,
-                           bdf2 ? &previous_motion_ : nullptr, h);
+  IncrementalPotential& phi = *w.phi;
+  phi.Begin(state_, motion_, bdf2 ? &previous_ : nullptr, bdf2 ? &previous_motion_ : nullptr, h);
   const int n = model_.NumSegments();
-  VecX q = state_.curvatures + h * state_.rates;  // the explicit predictor
-  VecX gradient, step, trial;
-  StrandHessian matrix;
-  StrandHessianFactor factor;
+  VecX& q = w.q;
+  VecX& gradient = w.gradient;
+  VecX& step = w.step;
+  if (has_history_ && previous_h_ == h) {
+    // Newton's starting point: the rates extrapolated linearly over the step,
+    // q_n + h (qdot_n + h qddot_n) with qddot_n = (qdot_n - qdot_(n-1)) / h (docs/dynamics.md,
+    // "Newton"); it only changes where Newton starts, not what it converges to.
+    q = state_.curvatures + h * (2.0 * state_.rates - previous_.rates);
+  } else {
+    q = state_.curvatures + h * state_.rates;  // the explicit predictor
+  }
   double value = phi.Evaluate(q, &gradient);
   if (!std::isfinite(value) || !gradient.allFinite()) {
     // The predictor went somewhere unreasonable: start from where the step starts.
     q = state_.curvatures;
     value = phi.Evaluate(q, &gradient);
   }
+  // Builds and factors the Newton matrix at q.
+  auto refactor = [&]() {
+    ++*factorizations;
+    phi.NewtonMatrix(q, &w.matrix);
+    // Positive definite unless the potential's Hessian is too negative for the inertia: then a
+    // growing multiple of the identity (Levenberg) until the factorization succeeds.
+    double mean_diagonal = 0.0;
+    for (const Mat3& d : w.matrix.diagonal) mean_diagonal += d.trace();
+    mean_diagonal /= 3.0 * n;
+    double shift = 0.0;
+    bool factored = w.factor.Factor(w.matrix, 0.0);
+    for (int tries = 0; !factored && tries < 20; ++tries) {
+      shift = (shift == 0.0 ? 1e-8 : 10.0 * shift);
+      factored = w.factor.Factor(w.matrix, -shift * std::abs(mean_diagonal));
+    }
+    return factored;
+  };
+  auto solve = [&]() {
+    w.rhs = -gradient;
+    w.factor.Solve(w.rhs, &step);
+    double change = 0.0;
+    for (int i = 0; i < n; ++i) {
+      change += model_.segment_lengths[static_cast<size_t>(i)] * step.segment<3>(3 * i).norm();
+    }
+    return change;
+  };
+  bool chord = false;  // whether the factor at hand is of an earlier point (a chord update)
+  double previous_change = 0.0;
   for (int iteration = 0; iteration < options_.max_newton_iterations; ++iteration) {
     ++*iterations;
     if (!std::isfinite(value) || !gradient.allFinite()) {
       *why = "non-finite energy or gradient";
       return false;
     }
-    phi.NewtonMatrix(q, &matrix);
-    // Positive definite unless the potential's Hessian is too negative for the inertia: then a
-    // growing multiple of the identity (Levenberg) until the factorization succeeds.
-    double mean_diagonal = 0.0;
-    for (const Mat3& d : matrix.diagonal) mean_diagonal += d.trace();
-    mean_diagonal /= 3.0 * n;
-    double shift = 0.0;
-    bool factored = factor.Factor(matrix, 0.0);
-    for (int tries = 0; !factored && tries < 20; ++tries) {
-      shift = (shift == 0.0 ? 1e-8 : 10.0 * shift);
-      factored = factor.Factor(matrix, -shift * std::abs(mean_diagonal));
-    }
-    if (!factored) {
+    if (!chord && !refactor()) {
       *why = "the Newton matrix could not be made positive definite";
       return false;
     }
-    factor.Solve(-gradient, &step);
-    double change = 0.0;
-    for (int i = 0; i < n; ++i) {
-      change += model_.segment_lengths[static_cast<size_t>(i)] * step.segment<3>(3 * i).norm();
+    double change = solve();
+    // The chord may count on no more updates than the iterations left allow.
+    const int power = std::min(kChordPower, options_.max_newton_iterations - iteration - 1);
+    const double ratio = previous_change > 0.0 ? change / previous_change : 1.0;
+    if (chord && !(ratio <= kChordContraction &&
+                   change * std::pow(ratio, power) <= options_.tolerance)) {
+      // The chord update contracts too slowly: Newton's own at q.
+      if (!refactor()) {
+        *why = "the Newton matrix could not be made positive definite";
+        return false;
+      }
+      change = solve();
     }
     const double slope = gradient.dot(step);  // < 0
     if (change <= options_.tolerance) {
@@ -488,11 +587,10 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
     double alpha = 1.0;
     bool accepted = false;
     double trial_value = value;
-    VecX trial_gradient;
     for (int k = 0; k < 40; ++k) {
-      trial = q + alpha * step;
-      trial_value = phi.Evaluate(trial, &trial_gradient);
-      if (std::isfinite(trial_value) && trial_gradient.allFinite() &&
+      w.trial = q + alpha * step;
+      trial_value = phi.Evaluate(w.trial, &w.trial_gradient);
+      if (std::isfinite(trial_value) && w.trial_gradient.allFinite() &&
           trial_value <= value + 1e-4 * alpha * slope) {
         accepted = true;
         break;
@@ -508,14 +606,18 @@ bool StrandDynamics::TryStep(double h, int* iterations, std::string* why) {
       *why = "the line search found no decrease";
       return false;
     }
-    q = trial;
+    q.swap(w.trial);
+    gradient.swap(w.trial_gradient);
     value = trial_value;
-    gradient = trial_gradient;
     if (alpha * change <= options_.tolerance) {
       last_update_ = alpha * change;
       Accept(stepped, q, h, bdf2);
       return true;
     }
+    // The next update reuses this factor only after a full step (close enough to the solution
+    // for the chord to converge); a shortened step asks for a fresh Newton matrix.
+    chord = alpha == 1.0;
+    previous_change = change;
   }
   std::ostringstream out;
   out << "Newton did not converge in " << options_.max_newton_iterations << " iterations";
@@ -566,50 +668,63 @@ StepReport StrandDynamics::Step(double h) {
     throw std::invalid_argument("time step must be a finite number > 0 (s)");
   }
   StepReport report;
-  const StrandState saved = state_, saved_previous = previous_;
-  const SampleMotion saved_motion = motion_, saved_previous_motion = previous_motion_;
-  const Vec3 saved_root = model_.root_position;
-  const Mat3 saved_frame = model_.root_frame;
-  const std::shared_ptr<const Obstacle> saved_obstacle = model_.contact.obstacle;
-  const double saved_previous_h = previous_h_;
-  const bool saved_history = has_history_;
   std::string why, first_why;
-  // Depth-first halving: a sub-step of h / 2^depth that fails is replaced by two of half its
-  // length, down to max_halvings.
-  struct Pending {
-    double h;
-    int depth;
-  };
-  std::vector<Pending> stack = {{h, 0}};
   bool ok = true;
-  while (!stack.empty()) {
-    const Pending p = stack.back();
-    stack.pop_back();
-    if (TryStep(p.h, &report.newton_iterations, &why)) {
-      ++report.substeps;
-      report.halvings = std::max(report.halvings, p.depth);
-      continue;
-    }
-    if (first_why.empty()) first_why = why;
-    if (p.depth >= options_.max_halvings) {
+  const double start_time = state_.time;
+  if (TryStep(h, &report.newton_iterations, &report.factorizations, &why)) {
+    report.substeps = 1;
+  } else {
+    // A failed try leaves the state as it was: saved now, for a halving that fails part way.
+    const StrandState saved = state_, saved_previous = previous_;
+    const SampleMotion saved_motion = motion_, saved_previous_motion = previous_motion_;
+    const Vec3 saved_root = model_.root_position;
+    const Mat3 saved_frame = model_.root_frame;
+    const std::shared_ptr<const Obstacle> saved_obstacle = model_.contact.obstacle;
+    const double saved_previous_h = previous_h_;
+    const bool saved_history = has_history_;
+    first_why = why;
+    // Depth-first halving: a sub-step of h / 2^depth that fails is replaced by two of half its
+    // length, down to max_halvings.
+    struct Pending {
+      double h;
+      int depth;
+    };
+    std::vector<Pending> stack;
+    if (options_.max_halvings > 0) {
+      stack = {{0.5 * h, 1}, {0.5 * h, 1}};
+    } else {
       ok = false;
-      break;
     }
-    stack.push_back({0.5 * p.h, p.depth + 1});
-    stack.push_back({0.5 * p.h, p.depth + 1});
+    while (!stack.empty()) {
+      const Pending p = stack.back();
+      stack.pop_back();
+      if (TryStep(p.h, &report.newton_iterations, &report.factorizations, &why)) {
+        ++report.substeps;
+        report.halvings = std::max(report.halvings, p.depth);
+        continue;
+      }
+      if (p.depth >= options_.max_halvings) {
+        ok = false;
+        break;
+      }
+      stack.push_back({0.5 * p.h, p.depth + 1});
+      stack.push_back({0.5 * p.h, p.depth + 1});
+    }
+    if (!ok) {
+      state_ = saved;
+      previous_ = saved_previous;
+      motion_ = saved_motion;
+      previous_motion_ = saved_previous_motion;
+      model_.root_position = saved_root;
+      model_.root_frame = saved_frame;
+      model_.contact.obstacle = saved_obstacle;
+      previous_h_ = saved_previous_h;
+      has_history_ = saved_history;
+    }
   }
   if (!ok) {
-    state_ = saved;
-    previous_ = saved_previous;
-    motion_ = saved_motion;
-    previous_motion_ = saved_previous_motion;
-    model_.root_position = saved_root;
-    model_.root_frame = saved_frame;
-    model_.contact.obstacle = saved_obstacle;
-    previous_h_ = saved_previous_h;
-    has_history_ = saved_history;
     std::ostringstream out;
-    out << "step of " << h << " s at t = " << saved.time << " s failed after "
+    out << "step of " << h << " s at t = " << start_time << " s failed after "
         << options_.max_halvings << " halvings: " << why;
     report.message = out.str();
     report.converged = false;
@@ -618,13 +733,17 @@ StepReport StrandDynamics::Step(double h) {
     report.residual = last_update_;
     if (report.halvings > 0) {
       std::ostringstream out;
-      out << "step of " << h << " s at t = " << saved.time << " s halved " << report.halvings
+      out << "step of " << h << " s at t = " << start_time << " s halved " << report.halvings
           << " time(s) (" << report.substeps << " sub-steps): " << first_why;
       report.message = out.str();
     }
   }
   report.time = state_.time;
-  report.potential = Potential();
+  // The potential with the model as it is now.
+  Scratch& w = BindScratch();
+  report.potential = w.phi->Potential(state_.curvatures);
+  // The thread's buffers keep no body alive past the step (a body may be large: a distance grid).
+  w.stepped.contact.obstacle.reset();
   report.kinetic = Kinetic();
   return report;
 }

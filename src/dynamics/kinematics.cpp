@@ -62,7 +62,6 @@ GaussRule GaussLegendre01(int points) {
 
 void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const GaussRule& rule,
                        Kinematics* kin, bool jacobians) {
-  using helix_hessian::CoefficientsOf;
   const int n = model.NumSegments();
   assert(curvatures.size() == 3 * n);
   const size_t points = rule.nodes.size();
@@ -71,8 +70,6 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
   kin->segments.resize(static_cast<size_t>(n));
   kin->samples.resize(static_cast<size_t>(n) * points);
   kin->first_sample.resize(static_cast<size_t>(n) + 1);
-  kin->rotation_coefficients.resize(static_cast<size_t>(n));
-  kin->chord_coefficients.resize(static_cast<size_t>(n));
   Mat3 q = model.root_frame;
   Vec3 r = Vec3::Zero();
   for (int i = 0; i < n; ++i) {
@@ -84,10 +81,6 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
     kin->starts[si] = r;
     const HelixSegment segment = EvaluateHelixSegment(omega, l);
     kin->segments[si] = segment;
-    double g[9];
-    helix_hessian::HelixFunctions8(l * norm, g);
-    kin->rotation_coefficients[si] = CoefficientsOf(1, l, g);
-    kin->chord_coefficients[si] = CoefficientsOf(2, l, g);
     kin->first_sample[si] = static_cast<int>(si * points);
     // W and W^2 = Omega Omega^T - |Omega|^2 I, once per segment.
     const Mat3 w = Hat(omega);
@@ -99,9 +92,6 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
       s.u = rule.nodes[j] * l;
       s.weight = rule.weights[j] * l;
       s.functions = EvaluateHelixFunctions(norm * s.u);
-      double gu[9];
-      helix_hessian::HelixFunctions8(norm * s.u, gu);
-      s.chord = CoefficientsOf(2, s.u, gu);
       const Vec3 h = HelixChordFromFunctions(omega, s.u, s.functions);
       s.y = r + q * h;
       // R(u) = I + u G1 W + u^2 G2 W^2 (helix.h, Rodrigues).
@@ -119,14 +109,24 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
 
 void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* kin) {
   if (kin->jacobians) return;
+  using helix_hessian::CoefficientsOf;
   const int n = model.NumSegments();
   kin->twist.resize(static_cast<size_t>(n));
+  kin->rotation_coefficients.resize(static_cast<size_t>(n));
+  kin->chord_coefficients.resize(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) {
     const size_t si = static_cast<size_t>(i);
     const double l = model.segment_lengths[si];
     const Vec3 omega = curvatures.segment<3>(3 * i);
+    const double norm = omega.norm();
     const Mat3& q = kin->frames[si];
     const HelixSegment& segment = kin->segments[si];
+    // The coefficients of the second derivatives (helix_hessian.h): only the Newton matrix's
+    // Jacobians and force curvature use them, so they are not part of ComputeKinematics.
+    double g[9];
+    helix_hessian::HelixFunctions8(l * norm, g);
+    kin->rotation_coefficients[si] = CoefficientsOf(1, l, g);
+    kin->chord_coefficients[si] = CoefficientsOf(2, l, g);
     // S_i: a change dOmega of segment i turns everything past its end by omega = Q_i A(l) dOmega
     // and moves its end by Q_i dp; a point y past it moves by omega x (y - r_(i+1)) + Q_i dp =
     // omega x y + v with v = Q_i dp + r_(i+1) x omega (strand_hessian.cpp, the same twist).
@@ -139,6 +139,9 @@ void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* 
     kin->twist[si] = twist;
     for (int k = kin->first_sample[si]; k < kin->first_sample[si + 1]; ++k) {
       Sample& s = kin->samples[static_cast<size_t>(k)];
+      double gu[9];
+      helix_hessian::HelixFunctions8(norm * s.u, gu);
+      s.chord = CoefficientsOf(2, s.u, gu);
       s.angular = q * RotationJacobian(omega, s.u, s.functions);
       s.linear = q * helix_hessian::ChordDerivative(omega, s.chord);  // dh(u)/dOmega
     }
@@ -217,34 +220,34 @@ void SampleVelocities(const Kinematics& kin, const VecX& rates, std::vector<Vec3
 void ApplyJacobianTranspose(const StrandModel& model, const VecX& curvatures,
                             const Kinematics& kin, const std::vector<Vec3>& forces,
                             const std::vector<Mat3>& frame_adjoints, VecX* gradient) {
+  assert(kin.jacobians);
   const int n = model.NumSegments();
+  assert(curvatures.size() == 3 * n);
+  (void)curvatures;
   gradient->resize(3 * n);
-  // Adjoints of the next segment's start (r_bar = dPhi/dr_(i+1), q_bar = dPhi/dQ_(i+1)), as in
-  // the gravity and contact sweep of energy.cpp: r_(i+1) = r_i + Q_i p_i, Q_(i+1) = Q_i R_i, and a
-  // sample y = r_i + Q_i h(u), Q_s = Q_i R(u).
-  Vec3 r_bar = Vec3::Zero();
-  Mat3 q_bar = Mat3::Zero();
+  // With the twists: a change dOmega_a turns and moves everything past segment a rigidly by the
+  // twist (omega, v) = S_a dOmega_a, so a sample there moves by dy = omega x y + v and turns by
+  // dQ = [omega]x Q; its own segment's samples move by their own Jacobians (linear, angular). A
+  // force F_s = dPhi/dy_s and a frame adjoint G_s = dPhi/dQ_s are then the wrench
+  // (tau_s + y_s x F_s, F_s) about the root, tau_s = sum_d Q_s,d x G_s,d (the columns: <G, [w]x Q>
+  // = w . sum_d Q_d x G_d), and dPhi/dOmega_a = S_a^T W_(past a) + sum_(s in a) (angular_s^T tau_s
+  // + linear_s^T F_s), W_(past a) the sum of the wrenches of the samples past segment a.
+  Vec6 wrench = Vec6::Zero();
   for (int i = n - 1; i >= 0; --i) {
     const size_t si = static_cast<size_t>(i);
-    const double l = model.segment_lengths[si];
-    const Vec3 omega = curvatures.segment<3>(3 * i);
-    const Mat3& q = kin.frames[si];
-    const HelixSegment& segment = kin.segments[si];
-    const Mat3 qt = q.transpose();
-    Vec3 g = HelixSegmentVjp(omega, l, segment.functions, qt * q_bar, qt * r_bar, Vec3::Zero());
-    Mat3 q_bar_i = q_bar * segment.rotation.transpose() + r_bar * segment.chord.transpose();
+    Vec3 g = kin.twist[si].transpose() * wrench;
     for (int k = kin.first_sample[si]; k < kin.first_sample[si + 1]; ++k) {
       const Sample& s = kin.samples[static_cast<size_t>(k)];
       const Vec3& f = forces[static_cast<size_t>(k)];
       const Mat3& adjoint = frame_adjoints[static_cast<size_t>(k)];
-      const Vec3 h = HelixChordFromFunctions(omega, s.u, s.functions);
-      const Mat3 rotation = qt * s.frame;  // R(u)
-      g += HelixSegmentVjp(omega, s.u, s.functions, qt * adjoint, qt * f, Vec3::Zero());
-      q_bar_i += f * h.transpose() + adjoint * rotation.transpose();
-      r_bar += f;
+      const Vec3 tau = s.frame.col(0).cross(adjoint.col(0)) + s.frame.col(1).cross(adjoint.col(1)) +
+                       s.frame.col(2).cross(adjoint.col(2));
+      g.noalias() += s.angular.transpose() * tau;
+      g.noalias() += s.linear.transpose() * f;
+      wrench.head<3>() += tau + s.y.cross(f);
+      wrench.tail<3>() += f;
     }
     gradient->segment<3>(3 * i) = g;
-    q_bar = q_bar_i;
   }
 }
 

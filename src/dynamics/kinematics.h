@@ -33,7 +33,7 @@ struct Sample {
   Mat3 linear;          ///< d y / d Omega_i (world, m^2); with jacobians
   HelixFunctions functions;  ///< G_m(u |Omega_i|)
   /// The partial chord's coefficients (A_2 over length u, helix_hessian.h): its Jacobian and
-  /// second derivatives in Omega_i.
+  /// second derivatives in Omega_i; with jacobians.
   helix_hessian::Coefficients chord;
 };
 
@@ -45,7 +45,8 @@ struct Kinematics {
   std::vector<HelixSegment> segments;
   std::vector<Sample> samples;      ///< segment by segment, root to tip
   std::vector<int> first_sample;    ///< index of segment i's first sample; size n + 1
-  /// Coefficients of A_1 (rotation) and A_2 (chord) of each whole segment (helix_hessian.h).
+  /// Coefficients of A_1 (rotation) and A_2 (chord) of each whole segment (helix_hessian.h);
+  /// with jacobians.
   std::vector<helix_hessian::Coefficients> rotation_coefficients, chord_coefficients;
   bool jacobians = false;           ///< twist and the samples' angular, linear are filled
 };
@@ -54,8 +55,8 @@ struct Kinematics {
 /// the energy and its gradient do not.
 void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const GaussRule& rule,
                        Kinematics* kinematics, bool jacobians = true);
-/// Fills the twists and the samples' Jacobians of kinematics computed without them (no-op when
-/// present).
+/// Fills the twists, the samples' Jacobians and the coefficients (segments' and samples') of
+/// kinematics computed without them (no-op when present).
 void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* kinematics);
 
 /// Per-sample inertia of the section: Theta = rho w Q diag(I1, I2, I1 + I2) Q^T (kg m^2), or
@@ -73,8 +74,8 @@ void SampleVelocities(const Kinematics& kinematics, const VecX& rates, std::vect
                       std::vector<Vec3>* linear);
 
 /// J^T of forces F_s (N, dPhi/dy_s) and frame adjoints G_s (dPhi/dQ_s, 3x3) at the samples:
-/// dPhi/dq (size 3n), by the reverse sweep of the energy's gradient (energy.cpp). Frames and
-/// positions of the segment starts are those of kinematics.
+/// dPhi/dq (size 3n), by one reverse sweep of the samples' wrenches about the root through the
+/// twists and the samples' own Jacobians (O(n)). Needs kinematics with jacobians.
 void ApplyJacobianTranspose(const StrandModel& model, const VecX& curvatures,
                             const Kinematics& kinematics, const std::vector<Vec3>& forces,
                             const std::vector<Mat3>& frame_adjoints, VecX* gradient);

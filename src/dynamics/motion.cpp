@@ -93,8 +93,8 @@ HeadMotion HeadMotion::Keyframes(std::vector<MotionKeyframe> keyframes, const Ve
     if (k > 0 && !(key.time > keyframes[k - 1].time)) {
       throw std::invalid_argument(at + "time: expected a time after the previous keyframe's");
     }
-    if (!key.translation.allFinite()) {
-      throw std::invalid_argument(at + "translation: expected 3 finite numbers (m)");
+    if (!key.translation.allFinite() || key.translation.cwiseAbs().maxCoeff() > kMaxTranslation) {
+      throw std::invalid_argument(at + "translation: expected 3 numbers of magnitude at most 1e6 (m)");
     }
     if (!key.axis.allFinite() || !(key.axis.norm() > 0.0) || !std::isfinite(key.axis.norm())) {
       throw std::invalid_argument(at + "axis: expected a non-zero direction [x, y, z]");
@@ -147,22 +147,29 @@ RigidPose HeadMotion::Pose(double t) const {
                                           return x < key.time;
                                         });
     const size_t k = std::min(static_cast<size_t>(after - keys.begin()) - 1, count - 2);
-    // Catmull-Rom tangents (central differences over the neighbours), zero at both ends.
+    // Catmull-Rom tangents (central differences over the neighbours), zero at both ends, times
+    // the interval's span: span / (t_(i+1) - t_(i-1)) <= 1 is formed first, so that keyframes
+    // however close in time give no overflow (found by fuzz_motion_json).
+    const double span = keys[k + 1].time - keys[k].time;
+    auto weight = [&](size_t i) {
+      if (i == 0 || i + 1 == count) return 0.0;
+      return span / (keys[i + 1].time - keys[i - 1].time);
+    };
     auto tangent_p = [&](size_t i) -> Vec3 {
-      if (i == 0 || i + 1 == count) return Vec3::Zero();
-      return (keys[i + 1].translation - keys[i - 1].translation) /
-             (keys[i + 1].time - keys[i - 1].time);
+      const double w = weight(i);
+      return w == 0.0 ? Vec3::Zero()
+                      : Vec3(w * (keys[i + 1].translation - keys[i - 1].translation));
     };
     auto tangent_q = [&](size_t i) -> Eigen::Vector4d {
-      if (i == 0 || i + 1 == count) return Eigen::Vector4d::Zero();
-      return (quaternions_[i + 1] - quaternions_[i - 1]) / (keys[i + 1].time - keys[i - 1].time);
+      const double w = weight(i);
+      return w == 0.0 ? Eigen::Vector4d::Zero()
+                      : Eigen::Vector4d(w * (quaternions_[i + 1] - quaternions_[i - 1]));
     };
-    const double span = keys[k + 1].time - keys[k].time;
     const Hermite h = HermiteBasis((t - keys[k].time) / span);
-    pose.translation = h.h00 * keys[k].translation + h.h10 * span * tangent_p(k) +
-                       h.h01 * keys[k + 1].translation + h.h11 * span * tangent_p(k + 1);
-    const Eigen::Vector4d q = h.h00 * quaternions_[k] + h.h10 * span * tangent_q(k) +
-                              h.h01 * quaternions_[k + 1] + h.h11 * span * tangent_q(k + 1);
+    pose.translation = h.h00 * keys[k].translation + h.h10 * tangent_p(k) +
+                       h.h01 * keys[k + 1].translation + h.h11 * tangent_p(k + 1);
+    const Eigen::Vector4d q = h.h00 * quaternions_[k] + h.h10 * tangent_q(k) +
+                              h.h01 * quaternions_[k + 1] + h.h11 * tangent_q(k + 1);
     // |q| >= sqrt((1 + dot)/2) - 2 (4/27) 2 > 0.1 with dot >= cos(89.5 deg): never zero.
     pose.rotation = Eigen::Quaterniond(q(0), q(1), q(2), q(3)).normalized().toRotationMatrix();
     return pose;
