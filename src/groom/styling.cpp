@@ -255,6 +255,28 @@ bool StrandSelection::Selects(int index, const Root& root) const {
 // ---------------------------------------------------------------------------------------------
 // Curl
 
+// After master i's natural curvature changed (Curl, CurlBrush): the wisp thickness follows the
+// curliness (BuildMasters), from the dry fibre radius, and the new shape's clearance is
+// r_w max(1, tip_scale) as BuildMasters gives it (an explicit master's own clearance belonged
+// to its old shape).
+namespace {
+void FitWispToCurl(StyledHair* state, int i) {
+  StrandModel& m = state->masters.models[i];
+  const WispOptions& wisps = state->style.wisps;
+  if (wisps.wisp_radius <= 0.0) {
+    const CrossSection& dry = IsWet(*state, i) ? state->dry.sections[i] : m.section;
+    state->masters.wisp_radii[i] = WispRadius(wisps.strands_per_wisp, dry.MeanRadius(),
+                                              HelixCurliness(m.natural_curvature),
+                                              wisps.packing_fraction);
+  }
+  if (state->masters.contact_radii.size() == state->masters.models.size()) {
+    state->masters.contact_radii[i] =
+        state->masters.wisp_radii[i] * std::max(1.0, wisps.tip_scale);
+  }
+  m.contact.clearance = MasterClearance(*state, i);
+}
+}  // namespace
+
 bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection& selection,
           const BatchOptions& batch, OperationReport* report, std::string* why) {
   const auto start = std::chrono::steady_clock::now();
@@ -284,20 +306,7 @@ bool Curl(StyledHair* state, double radius, double pitch, const StrandSelection&
     m.natural_curvature = natural;
     m.rest_curvatures.resize(0);
     m.contact.support_offsets.clear();  // chosen for the dropped rest shape
-    // The wisp thickness follows the curliness (BuildMasters), from the dry fibre radius.
-    const WispOptions& wisps = state->style.wisps;
-    if (wisps.wisp_radius <= 0.0) {
-      const CrossSection& dry = IsWet(*state, i) ? state->dry.sections[i] : m.section;
-      state->masters.wisp_radii[i] = WispRadius(wisps.strands_per_wisp, dry.MeanRadius(),
-                                                HelixCurliness(natural), wisps.packing_fraction);
-    }
-    // The new shape's clearance, r_w max(1, tip_scale) as BuildMasters gives it (an explicit
-    // master's own clearance belonged to its old shape).
-    if (state->masters.contact_radii.size() == state->masters.models.size()) {
-      state->masters.contact_radii[i] =
-          state->masters.wisp_radii[i] * std::max(1.0, wisps.tip_scale);
-    }
-    m.contact.clearance = MasterClearance(*state, i);
+    FitWispToCurl(state, i);
     which.push_back(i);
     warm.push_back(std::move(q));
   }
@@ -350,17 +359,7 @@ bool CurlBrush(StyledHair* state, double radius, double pitch, const Brush& brus
     }
     m.natural_curvature = natural;
     m.contact.support_offsets.clear();
-    const WispOptions& wisps = state->style.wisps;
-    if (wisps.wisp_radius <= 0.0) {
-      const CrossSection& dry = IsWet(*state, i) ? state->dry.sections[i] : m.section;
-      state->masters.wisp_radii[i] = WispRadius(wisps.strands_per_wisp, dry.MeanRadius(),
-                                                HelixCurliness(natural), wisps.packing_fraction);
-    }
-    if (state->masters.contact_radii.size() == state->masters.models.size()) {
-      state->masters.contact_radii[i] =
-          state->masters.wisp_radii[i] * std::max(1.0, wisps.tip_scale);
-    }
-    m.contact.clearance = MasterClearance(*state, i);
+    FitWispToCurl(state, i);
     which.push_back(i);
     warm.push_back(std::move(q));
   }
