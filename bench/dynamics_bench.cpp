@@ -6,8 +6,9 @@
 //   cmake --build build-bench --target ringlet_dynamics_bench
 //   ./build-bench/bench/ringlet_dynamics_bench --benchmark_filter=Head
 //
-// BM_HeadStep/<style>/<masters>/<segments>/<mass points, 0 = default> (and BM_HeadStep10k, 6
-// frames): the masters of an example hairstyle on the sphere
+// BM_HeadStep/<style>/<masters>/<segments>/<mass points, 0 = default>/<inexact steps' model tolerance
+// in thousandths, 0 = Newton to the tolerance (default)> (and BM_HeadStep10k, 6 frames): the
+// masters of an example hairstyle on the sphere
 // mannequin (BuildMasters: roots on the scalp, hair type, graded segments, body contact), started
 // at rest on their static equilibrium (SolveStrands), then the head shakes: the roots turn about
 // the head's up axis through its centre by 0.5 sin(2 pi t) rad (1 Hz, +-29 degrees), the inertial
@@ -30,6 +31,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ringlet/cross_section.h"
@@ -86,6 +88,7 @@ void BM_HeadStep(benchmark::State& state) {
     const VecX& q = rest[i].curvatures;
     DynamicsOptions options;
     if (state.range(3) > 0) options.mass_points = static_cast<int>(state.range(3));
+    options.model_tolerance = 1e-3 * static_cast<double>(state.range(4));
     strands[i] = std::make_unique<StrandDynamics>(m, options,
                                                   StrandState{q, VecX::Zero(q.size()), 0.0});
     const Vec3 arm = m.root_position - head.centre;
@@ -120,23 +123,28 @@ void BM_HeadStep(benchmark::State& state) {
   state.counters["failed"] = failed;
 }
 
-// The first second of the shake (24 frames), 1,000 masters for every style.
+// The first second of the shake (24 frames), 1,000 masters for every style: the default step
+// (Newton to the tolerance, 6 mass points) and the inexact one (model tolerance 0.03, 2 points).
 void HeadArguments(benchmark::internal::Benchmark* b) {
-  for (int segments : {15, 20}) {
-    for (int style = 0; style < 4; ++style) b->Args({style, 1000, segments, 0});
+  for (const auto& [points, model] : {std::pair{0, 0}, std::pair{2, 30}}) {
+    for (int segments : {15, 20}) {
+      for (int style = 0; style < 4; ++style) b->Args({style, 1000, segments, points, model});
+    }
   }
 }
 BENCHMARK(BM_HeadStep)->Apply(HeadArguments)->Unit(benchmark::kMillisecond)->UseRealTime()
     ->MeasureProcessCPUTime()->Iterations(24);
 // 10,000 masters: the first quarter second of the shake (6 frames, the fastest head motion).
-BENCHMARK(BM_HeadStep)->Args({2, 10000, 15, 0})->Args({2, 10000, 20, 0})->Args({0, 10000, 20, 0})
-    ->Name("BM_HeadStep10k")->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()
+BENCHMARK(BM_HeadStep)->Args({2, 10000, 15, 0, 0})->Args({2, 10000, 20, 0, 0})
+    ->Args({0, 10000, 20, 0, 0})->Args({2, 10000, 15, 2, 30})->Args({2, 10000, 20, 2, 30})
+    ->Args({0, 10000, 20, 2, 30})->Name("BM_HeadStep10k")->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()
     ->Iterations(6);
 
 // A small head for profiling (100 masters, curly, 20 segments), and its cost against the mass
 // samples per segment (DynamicsOptions::mass_points; 0 = the default, 6).
-BENCHMARK(BM_HeadStep)->Args({2, 100, 20, 0})->Args({0, 100, 20, 0})->Args({2, 100, 20, 2})->Args({2, 100, 20, 3})
-    ->Args({2, 100, 20, 4})->Name("BM_HeadStepSmall")->Unit(benchmark::kMillisecond)
+BENCHMARK(BM_HeadStep)->Args({2, 100, 20, 0, 0})->Args({0, 100, 20, 0, 0})->Args({2, 100, 20, 2, 0})
+    ->Args({2, 100, 20, 3, 0})->Args({2, 100, 20, 4, 0})->Args({2, 100, 20, 2, 30})
+    ->Args({0, 100, 20, 2, 30})->Name("BM_HeadStepSmall")->Unit(benchmark::kMillisecond)
     ->UseRealTime()->MeasureProcessCPUTime()->Iterations(24);
 
 // The results do not depend on the thread count: 100 curly masters shaken for 6 frames on 1 and on

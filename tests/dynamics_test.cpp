@@ -386,11 +386,16 @@ TEST(DynamicsModes, StandingColumnLosesStabilityAtGreenhillsLoad) {
   }
 }
 
+// The inexact steps' model tolerance (DynamicsOptions::model_tolerance) of the tests below.
+// 0.03: the head benchmark's fast rows (benchmarks.md); 0.3 let the heavy curly strand below gain
+// energy and halved 100 of the 864 film-frame steps of the hair types (tried).
+constexpr double kInexact = 0.03;
+
 // A weightless cantilever or a hanging rod released from rest in its first mode: the period of
 // the tip, measured from zero crossings over four periods, is backward Euler's
 // omega_h = atan(omega h) / h for the modal omega (the phase per step of 1 / (1 - i omega h)).
 void CheckFreeVibration(const StrandModel& m, const char* name,
-                        Integrator integrator = Integrator::kBackwardEuler) {
+                        Integrator integrator = Integrator::kBackwardEuler, double model_tolerance = 0.0) {
   const int n = m.NumSegments();
   const Modes modes = ComputeModes(m, VecX::Zero(3 * n), 1);
   const double omega = std::sqrt(modes.omega_squared(0));
@@ -400,6 +405,7 @@ void CheckFreeVibration(const StrandModel& m, const char* name,
   options.air_drag = 0.0;
   options.time_step = period / 200.0;
   options.integrator = integrator;
+  options.model_tolerance = model_tolerance;
   // Amplitude: tip deflection ~1e-4 L (linear regime).
   VecX shape = modes.shapes.col(0);
   const StrandGeometry rest = ComputeGeometry(m, VecX::Zero(3 * n));
@@ -452,6 +458,13 @@ TEST(DynamicsFreeVibration, HangingRodPeriodMatchesModes) {
                      Integrator::kBdf2);
 }
 
+// The linearly implicit step (one Newton update per step) is backward Euler on a linear problem:
+// the same period, arg(1 / (1 - i omega h)) / h, to the same 1e-4.
+TEST(DynamicsLinearlyImplicit, FreeVibrationHasBackwardEulersPeriod) {
+  CheckFreeVibration(LoadedRod(0.1, 12, 10.0, true), "hanging rod, Gamma = 10, linearly implicit",
+                     Integrator::kBackwardEuler, kInexact);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Consistency with the statics.
 
@@ -470,11 +483,11 @@ StrandModel CurlyStrand() {
 
 // Started at rest on its certified equilibrium, the strand stays within 1e-6 L for 10 s of film
 // frames (240 steps of 1/24 s).
-TEST(DynamicsStatics, RestAtEquilibriumStaysPut) {
+void CheckRestAtEquilibrium(const DynamicsOptions& options, const char* name) {
   const StrandModel m = CurlyStrand();
   const StrandSolution solution = SolveStrand(m);
   ASSERT_TRUE(solution.summary.Converged() && solution.summary.stable);
-  StrandDynamics dynamics(m, {}, {solution.curvatures, VecX::Zero(45), 0.0});
+  StrandDynamics dynamics(m, options, {solution.curvatures, VecX::Zero(45), 0.0});
   double worst = 0.0;
   for (int k = 0; k < 240; ++k) {
     const StepReport report = dynamics.Step();
@@ -482,18 +495,21 @@ TEST(DynamicsStatics, RestAtEquilibriumStaysPut) {
     EXPECT_EQ(report.halvings, 0);
     worst = std::max(worst, MaxPointDistance(m, dynamics.state().curvatures, solution.curvatures));
   }
-  std::printf("rest at equilibrium: largest drift over 10 s %.3e L\n", worst / m.Length());
+  std::printf("rest at equilibrium (%s): largest drift over 10 s %.3e L\n", name,
+              worst / m.Length());
   EXPECT_LT(worst, 1e-6 * m.Length());
   EXPECT_NEAR(dynamics.state().time, 10.0, 1e-12);
 }
 
+TEST(DynamicsStatics, RestAtEquilibriumStaysPut) { CheckRestAtEquilibrium({}, "Newton"); }
+
 // Released from its natural (gravity-free) shape at rest, the damped strand falls, swings and
 // settles on the equilibrium that SolveStrand finds, within 1e-6 L. Total energy never rises.
-TEST(DynamicsStatics, DampedMotionSettlesOnTheStaticEquilibrium) {
+void CheckSettling(const DynamicsOptions& options, const char* name) {
   const StrandModel m = CurlyStrand();
   const StrandSolution solution = SolveStrand(m);
   ASSERT_TRUE(solution.summary.Converged() && solution.summary.stable);
-  StrandDynamics dynamics(m, {}, {m.NaturalCurvatures(), VecX::Zero(45), 0.0});
+  StrandDynamics dynamics(m, options, {m.NaturalCurvatures(), VecX::Zero(45), 0.0});
   double energy = dynamics.Potential().total + dynamics.Kinetic();
   int halved = 0, iterations = 0;
   double distance = 0.0;
@@ -509,11 +525,13 @@ TEST(DynamicsStatics, DampedMotionSettlesOnTheStaticEquilibrium) {
     distance = MaxPointDistance(m, dynamics.state().curvatures, solution.curvatures);
     if (k >= 24 && distance < 1e-7 * m.Length() && report.kinetic < 1e-20) break;
   }
-  std::printf("settling: %.2f s (%d steps, %d halved, %.1f Newton iterations per step), distance "
-              "to SolveStrand %.2e L\n", (k + 1) / 24.0, k + 1, halved,
+  std::printf("settling (%s): %.2f s (%d steps, %d halved, %.1f Newton iterations per step), "
+              "distance to SolveStrand %.2e L\n", name, (k + 1) / 24.0, k + 1, halved,
               static_cast<double>(iterations) / (k + 1), distance / m.Length());
   EXPECT_LT(distance, 1e-6 * m.Length());
 }
+
+TEST(DynamicsStatics, DampedMotionSettlesOnTheStaticEquilibrium) { CheckSettling({}, "Newton"); }
 
 // From another start (the equilibrium disturbed by random curvatures and rates), with BDF2 as
 // well as backward Euler: the damped strand settles on the same equilibrium within 1e-6 L.
@@ -667,9 +685,10 @@ TEST(DynamicsConvergence, FirstOrderBackwardEulerSecondOrderBdf2) {
   StrandModel m = MakeStrand(0.2, 10, 0.3, Vec3(40.0, 0.0, 10.0), testing::HorizontalFrame());
   m.section = SectionFromEccentricity(40e-6, 0.3);
   const double duration = 0.5;
-  auto run = [&](Integrator integrator, int steps) {
+  auto run = [&](Integrator integrator, int steps, double model_tolerance = 0.0) {
     DynamicsOptions options;
     options.integrator = integrator;
+    options.model_tolerance = model_tolerance;
     options.max_halvings = 0;
     StrandDynamics dynamics(m, options, {m.NaturalCurvatures(), VecX::Zero(30), 0.0});
     for (int k = 0; k < steps; ++k) {
@@ -692,6 +711,12 @@ TEST(DynamicsConvergence, FirstOrderBackwardEulerSecondOrderBdf2) {
                 bdf2 ? "BDF2" : "backward Euler", coarse, fine, order);
     EXPECT_NEAR(order, bdf2 ? 2.0 : 1.0, bdf2 ? 0.3 : 0.25);
   }
+  // The linearly implicit step (one Newton update of backward Euler) is first order too.
+  const double coarse = error(run(Integrator::kBackwardEuler, 96, kInexact));
+  const double fine = error(run(Integrator::kBackwardEuler, 192, kInexact));
+  std::printf("swing, linearly implicit: error %.2e L at h = T/96, %.2e L at T/192, order %.2f\n",
+              coarse, fine, std::log2(coarse / fine));
+  EXPECT_NEAR(std::log2(coarse / fine), 1.0, 0.25);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -748,13 +773,13 @@ TEST(DynamicsEnergy, UndampedEnergyIsBoundedOverTenThousandSteps) {
 // film frame: Newton converges without halving and the total energy never rises. (Predicting the
 // next step from J qdot instead of the samples' own velocities fed energy in here: the total rose
 // 30-fold in 0.4 s and the steps failed at 0.8 s.)
-TEST(DynamicsEnergy, HeavyCurlyStrandAtFilmFramesNeverGainsEnergy) {
+void CheckHeavyCurlyStrand(const DynamicsOptions& options) {
   StrandModel m;
   m.segment_lengths = UniformSegments(0.5, 25);
   m.section = SectionFromEccentricity(40e-6, 0.5);
   m.natural_curvature = Vec3(60.0, 0.0, 20.0);
   m.root_frame = testing::HorizontalFrame();
-  StrandDynamics dynamics(m, {}, {m.NaturalCurvatures(), VecX::Zero(75), 0.0});
+  StrandDynamics dynamics(m, options, {m.NaturalCurvatures(), VecX::Zero(75), 0.0});
   double energy = dynamics.Potential().total + dynamics.Kinetic();
   const double scale = std::abs(energy);
   for (int k = 0; k < 24; ++k) {
@@ -767,13 +792,15 @@ TEST(DynamicsEnergy, HeavyCurlyStrandAtFilmFramesNeverGainsEnergy) {
   }
 }
 
+TEST(DynamicsEnergy, HeavyCurlyStrandAtFilmFramesNeverGainsEnergy) { CheckHeavyCurlyStrand({}); }
+
 // ---------------------------------------------------------------------------------------------
 // Film frames with contact.
 
 // Every hair type (the 12 presets of hair_type.h, origin x curl, one strand each), 30 cm,
 // rooted near the top of a spherical head (Body, radius 10 cm), released from its natural shape: one step per film frame (h = 1/24 s) for 3 s, with
 // contact. Every step must converge; halvings are counted and reported.
-TEST(DynamicsFilmFrames, EveryHairTypeWithContactAtOneStepPerFrame) {
+void CheckEveryHairType(const DynamicsOptions& options, const char* name) {
   Body head;
   std::string error;
   ASSERT_TRUE(Body::Create({Sphere{Vec3::Zero(), 0.1, "head"}}, {}, &head, &error)) << error;
@@ -801,7 +828,7 @@ TEST(DynamicsFilmFrames, EveryHairTypeWithContactAtOneStepPerFrame) {
       m.root_frame = frame;
       m.contact.obstacle = obstacle;
       m.contact.clearance = 1e-3;
-      StrandDynamics dynamics(m, {}, {m.NaturalCurvatures(), VecX::Zero(60), 0.0});
+      StrandDynamics dynamics(m, options, {m.NaturalCurvatures(), VecX::Zero(60), 0.0});
       const double initial_depth = MeasureContact(m, m.NaturalCurvatures()).max_penetration;
       int halved = 0, iterations = 0, contact_steps = 0;
       double deepest = 0.0;
@@ -823,9 +850,45 @@ TEST(DynamicsFilmFrames, EveryHairTypeWithContactAtOneStepPerFrame) {
       total_steps += 72;
     }
   }
-  std::printf("film frames: %d of %d steps halved\n", total_halved, total_steps);
-  // Measured: none (3.7-4.4 Newton iterations per frame; 1.5 for the stiff kinky coils).
+  std::printf("film frames (%s): %d of %d steps halved\n", name, total_halved, total_steps);
+  // Measured: none (Newton: 3.7-4.4 iterations per frame; 1.5 for the stiff kinky coils).
   EXPECT_LE(total_halved, total_steps / 20);
+}
+
+TEST(DynamicsFilmFrames, EveryHairTypeWithContactAtOneStepPerFrame) {
+  CheckEveryHairType({}, "Newton");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Inexact steps (DynamicsOptions::model_tolerance): mostly one Newton update per step,
+// with 2 mass samples per segment, the configuration of the head benchmark's fast rows.
+
+DynamicsOptions LinearlyImplicit() {
+  DynamicsOptions options;
+  options.model_tolerance = kInexact;
+  options.mass_points = 2;
+  return options;
+}
+
+// At the equilibrium with no rates the one update is Newton's from the solution: the strand stays
+// within 1e-6 L for 10 s.
+TEST(DynamicsLinearlyImplicit, RestAtEquilibriumStaysPut) {
+  CheckRestAtEquilibrium(LinearlyImplicit(), "linearly implicit");
+}
+
+// A fixed point of the step has zero gradient of E (the inertia and dissipation terms vanish at
+// rest), so damped motion settles on SolveStrand's equilibrium, within 1e-6 L; the total energy
+// never rises on the way.
+TEST(DynamicsLinearlyImplicit, DampedMotionSettlesOnTheStaticEquilibrium) {
+  CheckSettling(LinearlyImplicit(), "linearly implicit");
+}
+
+TEST(DynamicsLinearlyImplicit, HeavyCurlyStrandAtFilmFramesNeverGainsEnergy) {
+  CheckHeavyCurlyStrand(LinearlyImplicit());
+}
+
+TEST(DynamicsLinearlyImplicit, EveryHairTypeWithContactAtOneStepPerFrame) {
+  CheckEveryHairType(LinearlyImplicit(), "linearly implicit");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -894,6 +957,9 @@ TEST(DynamicsSteps, BadInputIsRefusedWithTheFieldNamed) {
   options = {};
   options.mass_points = 9;
   EXPECT_NE(message(options, good).find("mass_points"), std::string::npos);
+  options = {};
+  options.model_tolerance = 1.0;
+  EXPECT_NE(message(options, good).find("model_tolerance"), std::string::npos);
   StrandState bad = good;
   bad.rates = VecX::Zero(44);
   EXPECT_NE(message({}, bad).find("rates must be 45"), std::string::npos);

@@ -53,6 +53,16 @@ struct DynamicsOptions {
   int mass_points = 6;
   /// Newton iterations allowed for one (sub)step before it is halved.
   int max_newton_iterations = 25;
+  /// Inexact steps: 0 (default) solves the implicit scheme, Newton until an update is below
+  /// `tolerance`. eta in (0, 1): a unit-length update also ends the step when the decrease of
+  /// Phi it achieved is the decrease of Phi's quadratic model within the fraction eta,
+  /// |dPhi / dPhi_model - 1| <= eta. The first Newton update from the starting point is then
+  /// often the last: the linearly implicit form of the scheme (one Newton iteration on the
+  /// exact Hessian, Baraff & Witkin 1998; Hairer & Wanner, Solving ODEs II, IV.7), with more
+  /// updates exactly where the step is nonlinear (large rotations in one step). First order
+  /// like backward Euler; the same stability function on linear problems (docs/dynamics.md,
+  /// "Inexact steps").
+  double model_tolerance = 0.0;
   /// Convergence: a Newton update with sum_i l_i |dOmega_i| below this (rad) ends the step.
   double tolerance = 1e-11;
   /// How many times a step may be halved (2^max_halvings sub-steps at most).
@@ -179,7 +189,9 @@ class StrandDynamics {
   bool TryStep(double h, int* iterations, int* factorizations, std::string* why);
   // Puts the root (and with carries_obstacle the obstacle) of *model where the clamp is at t.
   bool PlaceClamp(double t, StrandModel* model) const;
-  void Accept(const StrandModel& stepped, const VecX& curvatures, double h, bool bdf2);
+  struct Scratch;
+  // Takes the step to `curvatures` with the model at its end (scratch.stepped).
+  void Accept(const Scratch& scratch, const VecX& curvatures, double h, bool bdf2);
 
   StrandModel model_;
   DynamicsOptions options_;
@@ -200,7 +212,6 @@ class StrandDynamics {
   // its factor): one set per thread, reused by every strand stepped on that thread, so that a
   // step allocates nothing once warm and the buffers stay in cache however many strands there
   // are (dynamics.cpp). They hold nothing from one step to the next.
-  struct Scratch;
   Scratch& BindScratch() const;
 };
 

@@ -37,6 +37,10 @@ bool DynamicsOptions::IsValid(std::string* why) const {
   }
   if (mass_points < 1 || mass_points > 8) return fail("dynamics mass_points must be in 1..8");
   if (max_newton_iterations < 1) return fail("dynamics max_newton_iterations must be >= 1");
+  if (!(std::isfinite(model_tolerance) && model_tolerance >= 0.0 && model_tolerance < 1.0)) {
+    return fail("dynamics model_tolerance must be a number in [0, 1) (0 = Newton to the "
+                "tolerance)");
+  }
   if (!(std::isfinite(tolerance) && tolerance > 0.0)) {
     return fail("dynamics tolerance must be a finite number > 0 (rad)");
   }
@@ -251,6 +255,7 @@ class IncrementalPotential {
   void Begin(const StrandState& start, const StrandDynamics::SampleMotion& now,
              const StrandState* previous, const StrandDynamics::SampleMotion* before, double h) {
     root_ = model_.root_position;
+    evaluated_ = false;
     const bool bdf2 = previous != nullptr;
     a_ = bdf2 ? 4.0 * h * h / 9.0 : h * h;
     c_ = bdf2 ? 1.5 / h : 1.0 / h;
@@ -292,6 +297,27 @@ class IncrementalPotential {
     return terms;
   }
 
+  // Whether the last Evaluate since Begin was at exactly q: its kinematics and energy terms are
+  // then those of q with the model at the end of the step (the same operations on the same
+  // numbers, so the same bits as computing them again).
+  bool EvaluatedAt(const VecX& q) const {
+    return evaluated_ && evaluated_q_.size() == q.size() && evaluated_q_ == q;
+  }
+  // The potential energy terms of the last Evaluate (EvaluatedAt).
+  const EnergyTerms& LastTerms() const { return terms_; }
+  // World positions and directors (n1, n2; third column zero) of the mass samples of the last
+  // Evaluate (EvaluatedAt): SamplePlaces without computing the kinematics again.
+  void LastPlaces(StrandDynamics::SampleMotion* motion) const {
+    const size_t count = kin_.samples.size();
+    motion->positions.resize(count);
+    motion->directors.resize(count);
+    for (size_t k = 0; k < count; ++k) {
+      motion->positions[k] = model_.root_position + kin_.samples[k].y;
+      motion->directors[k] = kin_.samples[k].frame;
+      motion->directors[k].col(2).setZero();
+    }
+  }
+
   // Phi(q) and, when gradient is not null, dPhi/dq; kinematics at q are kept for the Newton
   // matrix.
   double Evaluate(const VecX& q, VecX* gradient) {
@@ -331,7 +357,9 @@ class IncrementalPotential {
       const Vec3 change = q.segment<3>(3 * i) - anchor_curvatures_.segment<3>(3 * i);
       dissipation += 0.5 * extra_[static_cast<size_t>(i)] * change.squaredNorm();
     }
-    const double potential = energy_.Evaluate(q, gradient ? &energy_gradient_ : nullptr);
+    const double potential = energy_.Evaluate(q, gradient ? &energy_gradient_ : nullptr, &terms_);
+    evaluated_q_ = q;
+    evaluated_ = true;
     if (gradient) {
       dynamics::ApplyJacobianTranspose(model_, q, kin_, forces_, adjoints_, gradient);
       *gradient += energy_gradient_;
@@ -372,6 +400,10 @@ class IncrementalPotential {
   std::vector<Mat3> adjoints_;
   VecX energy_gradient_;
   StrandHessian hessian_;
+  // The point of the last Evaluate since Begin and its potential energy terms.
+  bool evaluated_ = false;
+  VecX evaluated_q_;
+  EnergyTerms terms_;
 };
 
 StrandDynamics::StrandDynamics(const StrandModel& model, const DynamicsOptions& options,
@@ -580,16 +612,19 @@ bool StrandDynamics::TryStep(double h, int* iterations, int* factorizations, std
     if (change <= options_.tolerance) {
       q += step;
       last_update_ = change;
-      Accept(stepped, q, h, bdf2);
+      Accept(w, q, h, bdf2);
       return true;
     }
-    // Backtracking line search on Phi (Armijo, c = 1e-4).
+    // Backtracking line search on Phi (Armijo, c = 1e-4). The inexact step (options.
+    // model_tolerance > 0) tries points by Phi's value alone: it may end at the point found.
+    const bool inexact = options_.model_tolerance > 0.0;
     double alpha = 1.0;
     bool accepted = false;
     double trial_value = value;
     for (int k = 0; k < 40; ++k) {
       w.trial = q + alpha * step;
-      trial_value = phi.Evaluate(w.trial, &w.trial_gradient);
+      trial_value = phi.Evaluate(w.trial, inexact ? nullptr : &w.trial_gradient);
+      if (inexact) w.trial_gradient = gradient;  // computed below if the step goes on
       if (std::isfinite(trial_value) && w.trial_gradient.allFinite() &&
           trial_value <= value + 1e-4 * alpha * slope) {
         accepted = true;
@@ -606,14 +641,27 @@ bool StrandDynamics::TryStep(double h, int* iterations, int* factorizations, std
       *why = "the line search found no decrease";
       return false;
     }
+    // The inexact step's test: a unit step whose actual decrease of Phi is the decrease of
+    // Phi's quadratic model with the matrix it was solved with (-g.d - d^T A d / 2 = -g.d / 2,
+    // since A d = -g) within the fraction model_tolerance; the cubic remainder is then that
+    // fraction of the model, and the update's error about that fraction of its size
+    // (docs/dynamics.md, "Inexact steps").
+    const double predicted = -0.5 * slope;
+    // A model decrease below the rounding of Phi (1e-14 of it, as the line search's) ends it too:
+    // Phi cannot tell the point from the minimizer.
+    const bool model_agrees =
+        inexact && alpha == 1.0 &&
+        (predicted <= 1e-14 * std::abs(value) ||
+         std::abs((value - trial_value) / predicted - 1.0) <= options_.model_tolerance);
     q.swap(w.trial);
     gradient.swap(w.trial_gradient);
     value = trial_value;
-    if (alpha * change <= options_.tolerance) {
+    if (alpha * change <= options_.tolerance || model_agrees) {
       last_update_ = alpha * change;
-      Accept(stepped, q, h, bdf2);
+      Accept(w, q, h, bdf2);
       return true;
     }
+    if (inexact) value = phi.Evaluate(q, &gradient);
     // The next update reuses this factor only after a full step (close enough to the solution
     // for the chord to converge); a shortened step asks for a fresh Newton matrix.
     chord = alpha == 1.0;
@@ -625,7 +673,8 @@ bool StrandDynamics::TryStep(double h, int* iterations, int* factorizations, std
   return false;
 }
 
-void StrandDynamics::Accept(const StrandModel& stepped, const VecX& q, double h, bool bdf2) {
+void StrandDynamics::Accept(const Scratch& w, const VecX& q, double h, bool bdf2) {
+  const StrandModel& stepped = w.stepped;
   // Rates: backward Euler (q1 - q0) / h; BDF2 (3 q1 - 4 q0 + q_(-1)) / (2h). The samples'
   // velocities by the same formulas on their positions and directors: the scheme's velocities,
   // which the next step predicts from (J qdot would differ by O(h) and, over large rotations in
@@ -633,7 +682,11 @@ void StrandDynamics::Accept(const StrandModel& stepped, const VecX& q, double h,
   VecX rates = bdf2 ? VecX((3.0 * q - 4.0 * state_.curvatures + previous_.curvatures) / (2.0 * h))
                     : VecX((q - state_.curvatures) / h);
   SampleMotion next;
-  SamplePlaces(stepped, q, GaussLegendre01(options_.mass_points), &next);
+  if (w.phi->EvaluatedAt(q)) {
+    w.phi->LastPlaces(&next);  // the line search's last evaluation was at q
+  } else {
+    SamplePlaces(stepped, q, w.rule, &next);
+  }
   const size_t count = next.positions.size();
   next.velocities.resize(count);
   next.director_velocities.resize(count);
@@ -741,7 +794,10 @@ StepReport StrandDynamics::Step(double h) {
   report.time = state_.time;
   // The potential with the model as it is now.
   Scratch& w = BindScratch();
-  report.potential = w.phi->Potential(state_.curvatures);
+  // The terms of the accepted point when its last evaluation was there (the same numbers).
+  report.potential = ok && w.phi->EvaluatedAt(state_.curvatures)
+                         ? w.phi->LastTerms()
+                         : w.phi->Potential(state_.curvatures);
   // The thread's buffers keep no body alive past the step (a body may be large: a distance grid).
   w.stepped.contact.obstacle.reset();
   report.kinetic = Kinetic();
