@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -54,6 +55,8 @@ struct SimulateArgs {
   double fps = 24.0;
   int substeps = 1;
   std::string integrator = "backward_euler";
+  double model_tolerance = 0.0;  // DynamicsOptions::model_tolerance
+  int mass_points = 6;           // DynamicsOptions::mass_points
   std::vector<double> pivot;  // empty: the default pivot
   bool hair_per_frame = false;
   bool render = false;
@@ -159,6 +162,19 @@ int RunSimulate(const SimulateArgs& args) {
     PrintError("--integrator: expected backward_euler or bdf2, got \"" + args.integrator + "\"");
     return kExitBadInput;
   }
+  if (!(std::isfinite(args.model_tolerance) && args.model_tolerance >= 0.0 &&
+        args.model_tolerance < 1.0)) {
+    PrintError("--model-tolerance: expected a number in [0, 1) (0 = Newton to the tolerance), "
+               "got " + Format("%g", args.model_tolerance));
+    return kExitBadInput;
+  }
+  if (args.mass_points < 1 || args.mass_points > 8) {
+    PrintError("--mass-points: expected an integer in 1..8, got " +
+               std::to_string(args.mass_points));
+    return kExitBadInput;
+  }
+  options.dynamics.model_tolerance = args.model_tolerance;
+  options.dynamics.mass_points = args.mass_points;
   if (!options.IsValid(&error)) {
     PrintError("--" + error);
     return kExitBadInput;
@@ -487,6 +503,13 @@ Command AddSimulateCommand(CLI::App* parent) {
   app->add_option("--fps", args->fps, "Frames per second (default 24)");
   app->add_option("--substeps", args->substeps, "Implicit steps per frame (default 1)");
   app->add_option("--integrator", args->integrator, "backward_euler (default) or bdf2");
+  app->add_option("--model-tolerance", args->model_tolerance,
+                  "Inexact steps: a Newton update whose decrease of the step's potential matches "
+                  "its quadratic model within this fraction ends the step (default 0: Newton to "
+                  "the tolerance; 0.03 with --mass-points 2 is the fast setting of "
+                  "docs/benchmarks.md)");
+  app->add_option("--mass-points", args->mass_points,
+                  "Gauss points per segment of the kinetic energy, 1..8 (default 6)");
   app->add_option("--pivot", args->pivot,
                   "Pivot of the head motion X,Y,Z (m; default: 10 cm below the head centre, or "
                   "the mean root of a scene)")

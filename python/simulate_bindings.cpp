@@ -57,7 +57,8 @@ void BindSimulate(py::module_& m) {
   m.def(
       "simulate",
       [](py::object input, py::object motion, double duration, double fps, long long substeps,
-         const std::string& integrator, py::object pivot, long long threads,
+         const std::string& integrator, double model_tolerance, long long mass_points,
+         py::object pivot, long long threads,
          const std::string& base_directory, py::object progress) {
         BatchProgress reports(std::move(progress), "progress");
         CheckThreads(threads);
@@ -77,6 +78,14 @@ void BindSimulate(py::module_& m) {
           throw Error("integrator: expected \"backward_euler\" or \"bdf2\", got \"" + integrator +
                       "\"");
         }
+        RequireNumber(model_tolerance >= 0.0 && model_tolerance < 1.0, model_tolerance,
+                      "model_tolerance", "a number in [0, 1) (0 = Newton to the tolerance)");
+        if (mass_points < 1 || mass_points > 8) {
+          throw Error("mass_points: expected an integer in 1..8, got " +
+                      std::to_string(mass_points));
+        }
+        options.dynamics.model_tolerance = model_tolerance;
+        options.dynamics.mass_points = static_cast<int>(mass_points);
         std::string error;
         if (!options.IsValid(&error)) throw Error(error);
 
@@ -255,7 +264,7 @@ void BindSimulate(py::module_& m) {
       },
       py::arg("input"), py::arg("motion") = "shake", py::arg("duration") = 2.0,
       py::arg("fps") = 24.0, py::arg("substeps") = 1, py::arg("integrator") = "backward_euler",
-      py::arg("pivot") = py::none(), py::arg("threads") = 0, py::arg("base_directory") = ".",
+      py::arg("model_tolerance") = 0.0, py::arg("mass_points") = 6, py::arg("pivot") = py::none(), py::arg("threads") = 0, py::arg("base_directory") = ".",
       py::arg("progress") = py::none(),
       "Simulates hair under a rigid head motion, as `ringlet simulate` does (docs/dynamics.md). "
       "input: a Groom (its masters start from their equilibria), a hairstyle (a Hairstyle, a "
@@ -264,7 +273,9 @@ void BindSimulate(py::module_& m) {
       "\"nod\", \"shake\", \"turn\", \"walk\", \"none\", a motion file path (.json) or a motion "
       "dict (docs/dynamics.md, \"Motion files\"). duration (s) and fps give frames 0 .. "
       "floor(duration fps); substeps implicit steps per frame; integrator \"backward_euler\" or "
-      "\"bdf2\"; pivot [x, y, z] (m) overrides the default pivot (10 cm below the head "
+      "\"bdf2\"; model_tolerance in [0, 1): inexact steps (0 = Newton to the tolerance; 0.03 "
+      "with mass_points=2 is the fast setting of docs/benchmarks.md); mass_points 1..8 Gauss "
+      "points per segment of the kinetic energy; pivot [x, y, z] (m) overrides the default pivot (10 cm below the head "
       "centre, or the mean root of single strands). threads: 0 = all cores (results do not "
       "depend on it). progress(done, total) is called with the frames done about every 20 ms "
       "while it changes, in the calling thread; an exception it raises stops the simulation "

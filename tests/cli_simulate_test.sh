@@ -167,6 +167,8 @@ bad "fps" "--fps: expected a finite number > 0" "$SMALL" -o "$work/bad" --motion
 bad "duration" "--duration: expected a finite number > 0" "$SMALL" -o "$work/bad" --motion shake --duration -1
 bad "substeps" "--substeps: expected an integer between 1 and" "$SMALL" -o "$work/bad" --motion shake --substeps 0
 bad "integrator" "--integrator: expected backward_euler or bdf2" "$SMALL" -o "$work/bad" --motion shake --integrator rk4
+bad "model tolerance" "--model-tolerance: expected a number in [0, 1)" "$SMALL" -o "$work/bad" --motion shake --model-tolerance 1
+bad "mass points" "--mass-points: expected an integer in 1..8, got 0" "$SMALL" -o "$work/bad" --motion shake --mass-points 0
 bad "preset" "--motion: expected nod, shake, turn, walk, none or a motion file" "$SMALL" -o "$work/bad" --motion wiggle
 bad "width without render" "--width, --height, --spp: only with --render" "$SMALL" -o "$work/bad" --motion shake --width 64
 bad "missing motion file" "nope.json: cannot open" "$SMALL" -o "$work/bad" --motion "$work/nope.json"

@@ -458,10 +458,10 @@ TEST(DynamicsFreeVibration, HangingRodPeriodMatchesModes) {
                      Integrator::kBdf2);
 }
 
-// The linearly implicit step (one Newton update per step) is backward Euler on a linear problem:
+// An inexact step on a linear problem is backward Euler (one Newton update solves it exactly):
 // the same period, arg(1 / (1 - i omega h)) / h, to the same 1e-4.
-TEST(DynamicsLinearlyImplicit, FreeVibrationHasBackwardEulersPeriod) {
-  CheckFreeVibration(LoadedRod(0.1, 12, 10.0, true), "hanging rod, Gamma = 10, linearly implicit",
+TEST(DynamicsInexactSteps, FreeVibrationHasBackwardEulersPeriod) {
+  CheckFreeVibration(LoadedRod(0.1, 12, 10.0, true), "hanging rod, Gamma = 10, inexact steps",
                      Integrator::kBackwardEuler, kInexact);
 }
 
@@ -711,10 +711,10 @@ TEST(DynamicsConvergence, FirstOrderBackwardEulerSecondOrderBdf2) {
                 bdf2 ? "BDF2" : "backward Euler", coarse, fine, order);
     EXPECT_NEAR(order, bdf2 ? 2.0 : 1.0, bdf2 ? 0.3 : 0.25);
   }
-  // The linearly implicit step (one Newton update of backward Euler) is first order too.
+  // The inexact steps (mostly one Newton update of backward Euler) are first order too.
   const double coarse = error(run(Integrator::kBackwardEuler, 96, kInexact));
   const double fine = error(run(Integrator::kBackwardEuler, 192, kInexact));
-  std::printf("swing, linearly implicit: error %.2e L at h = T/96, %.2e L at T/192, order %.2f\n",
+  std::printf("swing, inexact steps: error %.2e L at h = T/96, %.2e L at T/192, order %.2f\n",
               coarse, fine, std::log2(coarse / fine));
   EXPECT_NEAR(std::log2(coarse / fine), 1.0, 0.25);
 }
@@ -872,23 +872,23 @@ DynamicsOptions LinearlyImplicit() {
 
 // At the equilibrium with no rates the one update is Newton's from the solution: the strand stays
 // within 1e-6 L for 10 s.
-TEST(DynamicsLinearlyImplicit, RestAtEquilibriumStaysPut) {
-  CheckRestAtEquilibrium(LinearlyImplicit(), "linearly implicit");
+TEST(DynamicsInexactSteps, RestAtEquilibriumStaysPut) {
+  CheckRestAtEquilibrium(LinearlyImplicit(), "inexact steps");
 }
 
 // A fixed point of the step has zero gradient of E (the inertia and dissipation terms vanish at
 // rest), so damped motion settles on SolveStrand's equilibrium, within 1e-6 L; the total energy
 // never rises on the way.
-TEST(DynamicsLinearlyImplicit, DampedMotionSettlesOnTheStaticEquilibrium) {
-  CheckSettling(LinearlyImplicit(), "linearly implicit");
+TEST(DynamicsInexactSteps, DampedMotionSettlesOnTheStaticEquilibrium) {
+  CheckSettling(LinearlyImplicit(), "inexact steps");
 }
 
-TEST(DynamicsLinearlyImplicit, HeavyCurlyStrandAtFilmFramesNeverGainsEnergy) {
+TEST(DynamicsInexactSteps, HeavyCurlyStrandAtFilmFramesNeverGainsEnergy) {
   CheckHeavyCurlyStrand(LinearlyImplicit());
 }
 
-TEST(DynamicsLinearlyImplicit, EveryHairTypeWithContactAtOneStepPerFrame) {
-  CheckEveryHairType(LinearlyImplicit(), "linearly implicit");
+TEST(DynamicsInexactSteps, EveryHairTypeWithContactAtOneStepPerFrame) {
+  CheckEveryHairType(LinearlyImplicit(), "inexact steps");
 }
 
 // ---------------------------------------------------------------------------------------------

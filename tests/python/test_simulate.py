@@ -62,6 +62,30 @@ def test_simulate_matches_the_command_bit_for_bit(cli, tmp_path, small_style):
     np.testing.assert_array_equal(again["points"], points)
 
 
+def test_inexact_steps_match_the_command_and_stay_near_newtons(cli, tmp_path, small_style):
+    """The fast setting of docs/benchmarks.md (inexact steps, 2 mass points): the module and the
+    command write the same frames; fewer Newton updates than Newton to the tolerance (measured
+    160 against 782), and every point within 2 mm of Newton's frames (measured 0.83 mm while the
+    shake moves points by up to 7 cm)."""
+    path, _ = small_style
+    out = tmp_path / "fast"
+    cli("simulate", path, "-o", out, "--motion", "shake", "--duration", 0.5, "--quiet",
+        "--model-tolerance", 0.03, "--mass-points", 2)
+    fast = ringlet.simulate(str(path), motion="shake", duration=0.5, model_tolerance=0.03,
+                            mass_points=2)
+    samples = usda_points((out / "hair.usda").read_text())
+    for k in range(len(fast["time"])):
+        np.testing.assert_array_equal(fast["points"][k], samples[k])
+    exact = ringlet.simulate(str(path), motion="shake", duration=0.5)
+    fast_updates = fast["summary"]["newton_iterations"].sum()
+    exact_updates = exact["summary"]["newton_iterations"].sum()
+    moved = np.abs(exact["points"][-1] - exact["points"][0]).max()
+    apart = np.abs(fast["points"] - exact["points"]).max()
+    print(f"updates {fast_updates} vs {exact_updates}, apart {apart:.3e} m, moved {moved:.3e} m")
+    assert fast_updates < 0.5 * exact_updates
+    assert apart < 2e-3
+
+
 def test_single_strands_and_motion_dicts():
     scene = {"strands": [{"length": 0.1, "segments": 6,
                           "root": {"position": [0, 0, 0], "tangent": [1, 0, 0],
@@ -84,6 +108,9 @@ def test_single_strands_and_motion_dicts():
     ({"duration": float("nan")}, "duration: expected a finite number > 0 (s), got nan"),
     ({"substeps": 0}, "substeps: expected an integer between 1 and 1000, got 0"),
     ({"integrator": "rk4"}, 'integrator: expected "backward_euler" or "bdf2", got "rk4"'),
+    ({"model_tolerance": 1.0}, "model_tolerance: expected a number in [0, 1) (0 = Newton to the tolerance), got 1.0"),
+    ({"model_tolerance": float("nan")}, "model_tolerance: expected a number in [0, 1)"),
+    ({"mass_points": 9}, "mass_points: expected an integer in 1..8, got 9"),
     ({"pivot": [0, 0]}, "pivot: expected 3 finite numbers (m)"),
     ({"threads": -1}, "threads: expected"),
 ])
