@@ -83,7 +83,7 @@ class Simulation {
   const SimulationOptions& options() const { return options_; }
 
  private:
-  void Summarize(const std::vector<StepReport>* reports);
+  void Summarize(const std::vector<StepReport>* reports, const std::vector<double>* depths);
 
   std::vector<StrandDynamics> strands_;
   HeadMotion motion_;

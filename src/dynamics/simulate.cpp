@@ -70,12 +70,13 @@ Simulation::Simulation(const std::vector<StrandModel>& models, const std::vector
       throw std::invalid_argument("strand " + std::to_string(i) + ": " + e.what());
     }
   }
-  Summarize(nullptr);
+  Summarize(nullptr, nullptr);
 }
 
 bool Simulation::Advance(int threads, const std::atomic<bool>* cancel) {
   const size_t count = strands_.size();
   std::vector<StepReport> reports(count);
+  std::vector<double> depths(count, 0.0);  // deepest penetration of each strand at the frame
   std::atomic<bool> cancelled{false};
   // The frame's end time is k / F (not a sum of steps): the last sub-step takes what is left
   // when the steps have drifted, so that frames stay on their time codes however long the run.
@@ -105,8 +106,14 @@ bool Simulation::Advance(int threads, const std::atomic<bool>* cancel) {
       total.residual = std::max(total.residual, report.residual);
       if (!report.message.empty() && total.message.empty()) total.message = report.message;
       if (!report.converged) total.converged = false;
+      // The energies of the state at the frame: the last sub-step's (Step's own evaluation).
+      total.potential = report.potential;
+      total.kinetic = report.kinetic;
     }
     reports[i] = std::move(total);
+    if (strand.model().contact.obstacle) {
+      depths[i] = MeasureContact(strand.model(), strand.state().curvatures).max_penetration;
+    }
   };
   // One strand per task: step costs vary with contact and curl.
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
@@ -118,23 +125,29 @@ bool Simulation::Advance(int threads, const std::atomic<bool>* cancel) {
   });
   if (cancelled) return false;
   summary_.frame = next;
-  Summarize(&reports);
+  Summarize(&reports, &depths);
   return true;
 }
 
-void Simulation::Summarize(const std::vector<StepReport>* reports) {
+// With the frame's reports the per-strand energies and depths come from the parallel steps (the
+// same numbers: Step reports the potential and kinetic energy of the state it leaves, and each
+// strand's depth is measured on its own thread); at frame 0 they are computed here.
+void Simulation::Summarize(const std::vector<StepReport>* reports,
+                           const std::vector<double>* depths) {
   FrameSummary s;
   s.frame = summary_.frame;
   s.time = s.frame / options_.fps;
   // In strand order, one after another: the sums do not depend on the threads.
   for (size_t i = 0; i < strands_.size(); ++i) {
     const StrandDynamics& strand = strands_[i];
-    const EnergyTerms potential = strand.Potential();
-    s.kinetic += strand.Kinetic();
+    const EnergyTerms potential = reports ? (*reports)[i].potential : strand.Potential();
+    s.kinetic += reports ? (*reports)[i].kinetic : strand.Kinetic();
     s.elastic += potential.elastic;
     s.gravity += potential.gravity;
     s.contact += potential.contact;
-    if (strand.model().contact.obstacle) {
+    if (depths) {
+      s.max_penetration = std::max(s.max_penetration, (*depths)[i]);
+    } else if (strand.model().contact.obstacle) {
       s.max_penetration = std::max(
           s.max_penetration, MeasureContact(strand.model(), strand.state().curvatures).max_penetration);
     }
