@@ -9,13 +9,89 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// The 3x3 products below are written out (Eigen's small fixed-size products cost about twice as
+// many instructions here) with the sums in the order of the Eigen 3.4 SSE2 products they replace
+// (rows 0 and 1 by packets, (a0 b0 + a1 b1) + a2 b2; row 2 by the scalar reduction,
+// a0 b0 + (a1 b1 + a2 b2)), so the results are the same to the last bit. Any order is as accurate.
+inline Mat3 Mul(const Mat3& a, const Mat3& b) {
+  Mat3 c;
+  for (int j = 0; j < 3; ++j) {
+    const double b0 = b(0, j), b1 = b(1, j), b2 = b(2, j);
+    c(0, j) = (a(0, 0) * b0 + a(0, 1) * b1) + a(0, 2) * b2;
+    c(1, j) = (a(1, 0) * b0 + a(1, 1) * b1) + a(1, 2) * b2;
+    c(2, j) = a(2, 0) * b0 + (a(2, 1) * b1 + a(2, 2) * b2);
+  }
+  return c;
+}
+
+// [a]x M = a x (each column of M): two products an entry, the zero terms of Hat(a) * M dropped.
+inline Mat3 CrossColumns(const Vec3& a, const Mat3& m) {
+  Mat3 c;
+  for (int j = 0; j < 3; ++j) {
+    c(0, j) = a.y() * m(2, j) - a.z() * m(1, j);
+    c(1, j) = a.z() * m(0, j) - a.x() * m(2, j);
+    c(2, j) = a.x() * m(1, j) - a.y() * m(0, j);
+  }
+  return c;
+}
+
 // Left Jacobian of the rotation exp(u W) in the segment's start frame: dR R^T = [A dOmega]x with
-// A = u I + u^2 G2 W + u^3 G3 W^2 (strand_hessian.cpp, "the rotation's left Jacobian").
-Mat3 RotationJacobian(const Vec3& omega, double u, const HelixFunctions& g) {
-  const Mat3 w = Hat(omega);
-  Mat3 w2 = omega * omega.transpose();
-  w2.diagonal().array() -= omega.squaredNorm();
-  return u * Mat3::Identity() + (u * u * g.g[2]) * w + (u * u * u * g.g[3]) * w2;
+// A = u I + u^2 G2 W + u^3 G3 W^2 (strand_hessian.cpp, "the rotation's left Jacobian"), with
+// W^2 = Omega Omega^T - |Omega|^2 I; entry by entry (squared_norm = |Omega|^2).
+inline Mat3 RotationJacobian(const Vec3& o, double squared_norm, double u,
+                             const HelixFunctions& g) {
+  const double c2 = u * u * g.g[2], c3 = u * u * u * g.g[3];
+  Mat3 a;
+  a(0, 0) = u + c3 * (o.x() * o.x() - squared_norm);
+  a(1, 1) = u + c3 * (o.y() * o.y() - squared_norm);
+  a(2, 2) = u + c3 * (o.z() * o.z() - squared_norm);
+  a(0, 1) = c2 * -o.z() + c3 * (o.x() * o.y());
+  a(1, 0) = c2 * o.z() + c3 * (o.y() * o.x());
+  a(0, 2) = c2 * o.y() + c3 * (o.x() * o.z());
+  a(2, 0) = c2 * -o.y() + c3 * (o.z() * o.x());
+  a(1, 2) = c2 * -o.x() + c3 * (o.y() * o.z());
+  a(2, 1) = c2 * o.x() + c3 * (o.z() * o.y());
+  return a;
+}
+
+// helix_hessian::ChordDerivative entry by entry: u Omega^T + a2 Omega_z I - [a1 e3 + a2 W e3]x,
+// u = b1 W e3 + b2 W^2 e3 - a2 e3, W e3 = (Omega_y, -Omega_x, 0),
+// W^2 e3 = (Omega_z Omega_x, Omega_z Omega_y, -Omega_x^2 - Omega_y^2).
+inline Mat3 ChordJacobian(const Vec3& o, const helix_hessian::Coefficients& c) {
+  const double w2x = o.z() * o.x(), w2y = o.z() * o.y(), w2z = -(o.x() * o.x()) - o.y() * o.y();
+  const double ux = c.b1 * o.y() + c.b2 * w2x;
+  const double uy = c.b1 * -o.x() + c.b2 * w2y;
+  const double uz = c.b2 * w2z - c.a2;
+  const double vx = c.a2 * o.y(), vy = c.a2 * -o.x(), vz = c.a1;  // a1 e3 + a2 W e3
+  const double diagonal = c.a2 * o.z();
+  Mat3 d;
+  d(0, 0) = ux * o.x() + diagonal;
+  d(1, 0) = uy * o.x() - vz;
+  d(2, 0) = uz * o.x() + vy;
+  d(0, 1) = ux * o.y() + vz;
+  d(1, 1) = uy * o.y() + diagonal;
+  d(2, 1) = uz * o.y() - vx;
+  d(0, 2) = ux * o.z() - vy;
+  d(1, 2) = uy * o.z() + vx;
+  d(2, 2) = uz * o.z() + diagonal;
+  return d;
+}
+
+// helix_hessian::CoefficientsOf for a fixed m, inlined (the same products in the same order).
+template <int m>
+inline helix_hessian::Coefficients CoefficientsOf(double l, const double g[9]) {
+  auto d = [&](int k) { return k * g[k + 2] - g[k + 1]; };
+  double lp[m + 6];
+  lp[0] = 1.0;
+  for (int k = 1; k < m + 6; ++k) lp[k] = lp[k - 1] * l;
+  helix_hessian::Coefficients c;
+  c.a1 = lp[m] * g[m];
+  c.a2 = lp[m + 1] * g[m + 1];
+  c.b1 = lp[m + 2] * d(m);
+  c.b2 = lp[m + 3] * d(m + 1);
+  c.c1 = lp[m + 4] * (m * d(m + 2) - d(m + 1));
+  c.c2 = lp[m + 5] * ((m + 1) * d(m + 3) - d(m + 2));
+  return c;
 }
 
 }  // namespace
@@ -75,32 +151,43 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
   for (int i = 0; i < n; ++i) {
     const size_t si = static_cast<size_t>(i);
     const double l = model.segment_lengths[si];
-    const Vec3 omega = curvatures.segment<3>(3 * i);
-    const double norm = omega.norm();
+    const Vec3 o = curvatures.segment<3>(3 * i);
+    const double norm = o.norm();
     kin->frames[si] = q;
     kin->starts[si] = r;
-    const HelixSegment segment = EvaluateHelixSegment(omega, l);
-    kin->segments[si] = segment;
+    HelixSegment& segment = kin->segments[si];
+    segment = EvaluateHelixSegment(o, l);
     kin->first_sample[si] = static_cast<int>(si * points);
-    // W and W^2 = Omega Omega^T - |Omega|^2 I, once per segment.
-    const Mat3 w = Hat(omega);
-    Mat3 w2 = omega * omega.transpose();
-    w2.diagonal().array() -= omega.squaredNorm();
+    // W^2 = Omega Omega^T - |Omega|^2 I and W^2 e3 (helix.h), once per segment.
+    const double squared_norm = o.squaredNorm();
+    const double w2x = o.z() * o.x(), w2y = o.z() * o.y(), w2z = -(o.x() * o.x()) - o.y() * o.y();
     for (size_t j = 0; j < points; ++j) {
       Sample& s = kin->samples[si * points + j];
       s.segment = i;
       s.u = rule.nodes[j] * l;
       s.weight = rule.weights[j] * l;
       s.functions = EvaluateHelixFunctions(norm * s.u);
-      const Vec3 h = HelixChordFromFunctions(omega, s.u, s.functions);
+      const double u = s.u, g1 = s.functions.g[1], g2 = s.functions.g[2], g3 = s.functions.g[3];
+      // The partial chord h(u) = u e3 + u^2 G2 W e3 + u^3 G3 W^2 e3 (HelixChordFromFunctions).
+      const double c2 = u * u * g2, c3 = u * u * u * g3;
+      const Vec3 h(c2 * o.y() + c3 * w2x, c2 * -o.x() + c3 * w2y, u + c3 * w2z);
       s.y = r + q * h;
-      // R(u) = I + u G1 W + u^2 G2 W^2 (helix.h, Rodrigues).
-      const Mat3 rotation = Mat3::Identity() + (s.u * s.functions.g[1]) * w +
-                            (s.u * s.u * s.functions.g[2]) * w2;
-      s.frame = q * rotation;
+      // R(u) = I + u G1 W + u^2 G2 W^2 (helix.h, Rodrigues), entry by entry.
+      const double b1 = u * g1;
+      Mat3 rotation;
+      rotation(0, 0) = 1.0 + c2 * (o.x() * o.x() - squared_norm);
+      rotation(1, 1) = 1.0 + c2 * (o.y() * o.y() - squared_norm);
+      rotation(2, 2) = 1.0 + c2 * (o.z() * o.z() - squared_norm);
+      rotation(0, 1) = b1 * -o.z() + c2 * (o.x() * o.y());
+      rotation(1, 0) = b1 * o.z() + c2 * (o.y() * o.x());
+      rotation(0, 2) = b1 * o.y() + c2 * (o.x() * o.z());
+      rotation(2, 0) = b1 * -o.y() + c2 * (o.z() * o.x());
+      rotation(1, 2) = b1 * -o.x() + c2 * (o.y() * o.z());
+      rotation(2, 1) = b1 * o.x() + c2 * (o.z() * o.y());
+      s.frame = Mul(q, rotation);
     }
     r += q * segment.chord;
-    q = q * segment.rotation;
+    q = Mul(q, segment.rotation);
   }
   kin->first_sample[static_cast<size_t>(n)] = static_cast<int>(static_cast<size_t>(n) * points);
   kin->jacobians = false;
@@ -109,7 +196,6 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
 
 void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* kin) {
   if (kin->jacobians) return;
-  using helix_hessian::CoefficientsOf;
   const int n = model.NumSegments();
   kin->twist.resize(static_cast<size_t>(n));
   kin->rotation_coefficients.resize(static_cast<size_t>(n));
@@ -117,33 +203,37 @@ void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* 
   for (int i = 0; i < n; ++i) {
     const size_t si = static_cast<size_t>(i);
     const double l = model.segment_lengths[si];
-    const Vec3 omega = curvatures.segment<3>(3 * i);
-    const double norm = omega.norm();
+    const Vec3 o = curvatures.segment<3>(3 * i);
+    const double norm = o.norm();
+    const double squared_norm = o.squaredNorm();
     const Mat3& q = kin->frames[si];
     const HelixSegment& segment = kin->segments[si];
     // The coefficients of the second derivatives (helix_hessian.h): only the Newton matrix's
     // Jacobians and force curvature use them, so they are not part of ComputeKinematics.
     double g[9];
     helix_hessian::HelixFunctions8(l * norm, g);
-    kin->rotation_coefficients[si] = CoefficientsOf(1, l, g);
-    kin->chord_coefficients[si] = CoefficientsOf(2, l, g);
+    kin->rotation_coefficients[si] = CoefficientsOf<1>(l, g);
+    kin->chord_coefficients[si] = CoefficientsOf<2>(l, g);
     // S_i: a change dOmega of segment i turns everything past its end by omega = Q_i A(l) dOmega
     // and moves its end by Q_i dp; a point y past it moves by omega x (y - r_(i+1)) + Q_i dp =
     // omega x y + v with v = Q_i dp + r_(i+1) x omega (strand_hessian.cpp, the same twist).
     // r_(i+1) is the segment's start (its first sample minus its partial chord) plus Q_i p.
     const Vec3 r_next = kin->starts[si] + q * segment.chord;
-    Mat63 twist;
-    twist.topRows<3>() = q * RotationJacobian(omega, l, segment.functions);
-    twist.bottomRows<3>() = q * helix_hessian::ChordDerivative(omega, kin->chord_coefficients[si]) +
-                            Hat(r_next) * twist.topRows<3>();
-    kin->twist[si] = twist;
+    const Mat3 top = Mul(q, RotationJacobian(o, squared_norm, l, segment.functions));
+    const Mat3 bottom = Mul(q, ChordJacobian(o, kin->chord_coefficients[si]));
+    const Mat3 turn = CrossColumns(r_next, top);
+    Mat63& twist = kin->twist[si];
+    twist.topRows<3>() = top;
+    for (int c = 0; c < 3; ++c) {
+      for (int rr = 0; rr < 3; ++rr) twist(3 + rr, c) = bottom(rr, c) + turn(rr, c);
+    }
     for (int k = kin->first_sample[si]; k < kin->first_sample[si + 1]; ++k) {
       Sample& s = kin->samples[static_cast<size_t>(k)];
       double gu[9];
       helix_hessian::HelixFunctions8(norm * s.u, gu);
-      s.chord = CoefficientsOf(2, s.u, gu);
-      s.angular = q * RotationJacobian(omega, s.u, s.functions);
-      s.linear = q * helix_hessian::ChordDerivative(omega, s.chord);  // dh(u)/dOmega
+      s.chord = CoefficientsOf<2>(s.u, gu);
+      s.angular = Mul(q, RotationJacobian(o, squared_norm, s.u, s.functions));
+      s.linear = Mul(q, ChordJacobian(o, s.chord));  // dh(u)/dOmega
     }
   }
   kin->jacobians = true;
