@@ -35,6 +35,42 @@ inline Mat3 CrossColumns(const Vec3& a, const Mat3& m) {
   return c;
 }
 
+// [b]x [y]x = y b^T - (b . y) I: two products on the diagonal, one off it (Hat(b) * Hat(y)'s
+// non-zero terms).
+inline Mat3 HatProduct(const Vec3& b, const Vec3& y) {
+  Mat3 m;
+  m(0, 0) = -(b.z() * y.z()) - b.y() * y.y();
+  m(1, 1) = -(b.z() * y.z()) - b.x() * y.x();
+  m(2, 2) = -(b.y() * y.y()) - b.x() * y.x();
+  m(0, 1) = b.y() * y.x();
+  m(0, 2) = b.z() * y.x();
+  m(1, 0) = b.x() * y.y();
+  m(1, 2) = b.z() * y.y();
+  m(2, 0) = b.x() * y.z();
+  m(2, 1) = b.y() * y.z();
+  return m;
+}
+
+// a^T b (3x3), the sums left to right (as Eigen's product with a transposed left factor).
+inline Mat3 TransposeMul(const Mat3& a, const Mat3& b) {
+  Mat3 c;
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < 3; ++i) c(i, j) = (a(0, i) * b(0, j) + a(1, i) * b(1, j)) + a(2, i) * b(2, j);
+  }
+  return c;
+}
+
+// scale Q diag(i1, i2, i1 + i2) Q^T (SectionInertia).
+inline Mat3 FrameInertia(const Mat3& frame, double scale, double i1, double i2) {
+  Mat3 weighted = frame;
+  weighted.col(0) *= i1;
+  weighted.col(1) *= i2;
+  weighted.col(2) *= i1 + i2;
+  Mat3 theta = Mul(weighted, frame.transpose());
+  theta *= scale;
+  return theta;
+}
+
 // Left Jacobian of the rotation exp(u W) in the segment's start frame: dR R^T = [A dOmega]x with
 // A = u I + u^2 G2 W + u^3 G3 W^2 (strand_hessian.cpp, "the rotation's left Jacobian"), with
 // W^2 = Omega Omega^T - |Omega|^2 I; entry by entry (squared_norm = |Omega|^2).
@@ -171,6 +207,7 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
       // The partial chord h(u) = u e3 + u^2 G2 W e3 + u^3 G3 W^2 e3 (HelixChordFromFunctions).
       const double c2 = u * u * g2, c3 = u * u * u * g3;
       const Vec3 h(c2 * o.y() + c3 * w2x, c2 * -o.x() + c3 * w2y, u + c3 * w2z);
+      s.partial_chord = h;
       s.y = r + q * h;
       // R(u) = I + u G1 W + u^2 G2 W^2 (helix.h, Rodrigues), entry by entry.
       const double b1 = u * g1;
@@ -241,9 +278,8 @@ void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* 
 
 Mat3 SectionInertia(const StrandModel& model, const Sample& sample, bool rotational_inertia) {
   if (!rotational_inertia) return Mat3::Zero();
-  const double i1 = model.section.I1(), i2 = model.section.I2();
-  const Eigen::DiagonalMatrix<double, 3> local(i1, i2, i1 + i2);
-  return (model.material.density * sample.weight) * (sample.frame * local * sample.frame.transpose());
+  return FrameInertia(sample.frame, model.material.density * sample.weight, model.section.I1(),
+                      model.section.I2());
 }
 
 void AssembleMetric(const StrandModel& model, const DynamicsOptions& options,
@@ -255,35 +291,88 @@ void AssembleMetric(const StrandModel& model, const DynamicsOptions& options,
   metric->load.resize(static_cast<size_t>(n));
   metric->translational = true;
   const double line_density = model.material.density * model.section.Area();
+  const double i1 = model.section.I1(), i2 = model.section.I2();
   // Reverse sweep: I accumulates the spatial inertia sum_s P_s^T W_s P_s of the samples past the
   // current segment, P_s = [[I, 0], [-[y_s]x, I]] mapping a twist (omega, v) to the sample's
-  // (angular, linear) velocity (omega, omega x y_s + v).
-  Mat6 inertia = Mat6::Zero();
+  // (angular, linear) velocity (omega, omega x y_s + v). With the sample's
+  // P^T W P = [[Theta - a [y]x^2, a [y]x], [-a [y]x, a I]], I = [[J, [c]x], [-[c]x, m I]] with
+  // J = sum (Theta - a [y]x^2), c = sum a y and m = sum a: those are all that is kept, and
+  // I S = [J S_top + c x S_bottom; -c x S_top + m S_bottom] is formed without the zeros.
+  Mat3 inertia_j = Mat3::Zero();
+  Vec3 inertia_c = Vec3::Zero();
+  double inertia_m = 0.0;
   for (int i = n - 1; i >= 0; --i) {
     const size_t si = static_cast<size_t>(i);
     const Mat63& twist = kin.twist[si];
-    Mat63 load = inertia * twist;
-    Mat3 diagonal = twist.transpose() * load;
-    Mat6 own = Mat6::Zero();
+    // load = I S, each sum in the order of the 6x6 by 6x3 product (left to right, zeros dropped).
+    Mat63& load = metric->load[si];
+    const double cx = inertia_c.x(), cy = inertia_c.y(), cz = inertia_c.z();
+    for (int j = 0; j < 3; ++j) {
+      const double t0 = twist(0, j), t1 = twist(1, j), t2 = twist(2, j);
+      const double v0 = twist(3, j), v1 = twist(4, j), v2 = twist(5, j);
+      load(0, j) = (((inertia_j(0, 0) * t0 + inertia_j(0, 1) * t1) + inertia_j(0, 2) * t2) +
+                    -cz * v1) + cy * v2;
+      load(1, j) = (((inertia_j(1, 0) * t0 + inertia_j(1, 1) * t1) + inertia_j(1, 2) * t2) +
+                    cz * v0) + -cx * v2;
+      load(2, j) = (((inertia_j(2, 0) * t0 + inertia_j(2, 1) * t1) + inertia_j(2, 2) * t2) +
+                    -cy * v0) + cx * v1;
+      load(3, j) = (cz * t1 + -cy * t2) + inertia_m * v0;
+      load(4, j) = (-cz * t0 + cx * t2) + inertia_m * v1;
+      load(5, j) = (cy * t0 + -cx * t1) + inertia_m * v2;
+    }
+    // S^T I S, the sums as Eigen's 3x6 by 6x3 product: (p0 + (p2 + p4)) + (p1 + (p3 + p5)).
+    Mat3 diagonal;
+    for (int j = 0; j < 3; ++j) {
+      for (int r = 0; r < 3; ++r) {
+        const double p0 = twist(0, r) * load(0, j), p1 = twist(1, r) * load(1, j);
+        const double p2 = twist(2, r) * load(2, j), p3 = twist(3, r) * load(3, j);
+        const double p4 = twist(4, r) * load(4, j), p5 = twist(5, r) * load(5, j);
+        diagonal(r, j) = (p0 + (p2 + p4)) + (p1 + (p3 + p5));
+      }
+    }
+    Mat3 own_j = Mat3::Zero();
+    Vec3 own_c = Vec3::Zero();
+    double own_m = 0.0;
     for (int k = kin.first_sample[si]; k < kin.first_sample[si + 1]; ++k) {
       const Sample& s = kin.samples[static_cast<size_t>(k)];
       const double a = mass_scale * line_density * s.weight + drag_scale * options.air_drag * s.weight;
-      const Mat3 theta = mass_scale * SectionInertia(model, s, options.rotational_inertia);
-      const Mat3 yx = Hat(s.y);
-      // P^T W P = [[Theta - a [y]x^2, a [y]x], [-a [y]x, a I]].
-      own.topLeftCorner<3, 3>() += theta - a * yx * yx;
-      own.topRightCorner<3, 3>() += a * yx;
-      own.bottomLeftCorner<3, 3>() -= a * yx;
-      own.bottomRightCorner<3, 3>().diagonal().array() += a;
+      Mat3 theta = Mat3::Zero();
+      if (options.rotational_inertia) {
+        theta = FrameInertia(s.frame, model.material.density * s.weight, i1, i2);
+        theta = mass_scale * theta;
+      }
+      const Vec3 ay = a * s.y;  // a [y]x = [a y]x
+      own_j += theta - HatProduct(ay, s.y);
+      own_c += ay;
+      own_m += a;
       // P^T W K with K = [angular; linear]: [Theta K_a + a [y]x K_l; a K_l].
-      load.topRows<3>() += theta * s.angular + a * yx * s.linear;
-      load.bottomRows<3>() += a * s.linear;
+      const Mat3 theta_angular = Mul(theta, s.angular);
+      const Mat3 y_linear = CrossColumns(ay, s.linear);
+      for (int j = 0; j < 3; ++j) {
+        for (int r = 0; r < 3; ++r) {
+          load(r, j) += theta_angular(r, j) + y_linear(r, j);
+          load(3 + r, j) += a * s.linear(r, j);
+        }
+      }
       // K^T W K.
-      diagonal += s.angular.transpose() * theta * s.angular + a * s.linear.transpose() * s.linear;
+      const Mat3 angular_theta_angular = Mul(TransposeMul(s.angular, theta), s.angular);
+      Mat3 linear_linear;
+      for (int j = 0; j < 3; ++j) {
+        for (int r = 0; r < 3; ++r) {
+          linear_linear(r, j) = ((a * s.linear(0, r)) * s.linear(0, j) +
+                                 (a * s.linear(1, r)) * s.linear(1, j)) +
+                                (a * s.linear(2, r)) * s.linear(2, j);
+        }
+      }
+      diagonal += angular_theta_angular + linear_linear;
     }
-    metric->load[si] = load;
-    metric->diagonal[si] = 0.5 * (diagonal + diagonal.transpose());
-    inertia += own;
+    Mat3& symmetric = metric->diagonal[si];
+    for (int j = 0; j < 3; ++j) {
+      for (int r = 0; r < 3; ++r) symmetric(r, j) = 0.5 * (diagonal(r, j) + diagonal(j, r));
+    }
+    inertia_j += own_j;
+    inertia_c += own_c;
+    inertia_m += own_m;
   }
 }
 
@@ -322,22 +411,35 @@ void ApplyJacobianTranspose(const StrandModel& model, const VecX& curvatures,
   // (tau_s + y_s x F_s, F_s) about the root, tau_s = sum_d Q_s,d x G_s,d (the columns: <G, [w]x Q>
   // = w . sum_d Q_d x G_d), and dPhi/dOmega_a = S_a^T W_(past a) + sum_(s in a) (angular_s^T tau_s
   // + linear_s^T F_s), W_(past a) the sum of the wrenches of the samples past segment a.
-  Vec6 wrench = Vec6::Zero();
+  // The sums are written out in the order of the Eigen products they replace (the 3x6 by 6
+  // product as (p0 + (p2 + p4)) + (p1 + (p3 + p5)), the transposed 3x3 ones left to right).
+  Vec3 torque = Vec3::Zero(), force = Vec3::Zero();  // the wrench W_(past a) about the root
   for (int i = n - 1; i >= 0; --i) {
     const size_t si = static_cast<size_t>(i);
-    Vec3 g = kin.twist[si].transpose() * wrench;
+    const Mat63& twist = kin.twist[si];
+    double g[3];
+    for (int c = 0; c < 3; ++c) {
+      g[c] = (twist(0, c) * torque.x() + (twist(2, c) * torque.z() + twist(4, c) * force.y())) +
+             (twist(1, c) * torque.y() + (twist(3, c) * force.x() + twist(5, c) * force.z()));
+    }
     for (int k = kin.first_sample[si]; k < kin.first_sample[si + 1]; ++k) {
       const Sample& s = kin.samples[static_cast<size_t>(k)];
       const Vec3& f = forces[static_cast<size_t>(k)];
       const Mat3& adjoint = frame_adjoints[static_cast<size_t>(k)];
       const Vec3 tau = s.frame.col(0).cross(adjoint.col(0)) + s.frame.col(1).cross(adjoint.col(1)) +
                        s.frame.col(2).cross(adjoint.col(2));
-      g.noalias() += s.angular.transpose() * tau;
-      g.noalias() += s.linear.transpose() * f;
-      wrench.head<3>() += tau + s.y.cross(f);
-      wrench.tail<3>() += f;
+      for (int c = 0; c < 3; ++c) {
+        g[c] += (s.angular(0, c) * tau.x() + s.angular(1, c) * tau.y()) + s.angular(2, c) * tau.z();
+      }
+      for (int c = 0; c < 3; ++c) {
+        g[c] += (s.linear(0, c) * f.x() + s.linear(1, c) * f.y()) + s.linear(2, c) * f.z();
+      }
+      torque += tau + s.y.cross(f);
+      force += f;
     }
-    gradient->segment<3>(3 * i) = g;
+    (*gradient)(3 * i) = g[0];
+    (*gradient)(3 * i + 1) = g[1];
+    (*gradient)(3 * i + 2) = g[2];
   }
 }
 
@@ -361,17 +463,19 @@ void AddForceCurvature(const StrandModel& model, const VecX& curvatures, const K
     // F . d^2 y / dq_a dq_b = omega_a . (dy/dq_b x F), with dy/dq_b = -[y]x S_top + S_bottom past
     // b and the own Jacobian inside b: B_top = sum [F]x [y]x S_top - [f_sum]x S_bottom
     // - sum_(s in b) [F_s]x dy_s/dOmega_b.
-    Mat3 load_top = a_f * twist.topRows<3>() - Hat(f_sum) * twist.bottomRows<3>();
+    const Mat3 top = twist.topRows<3>(), bottom = twist.bottomRows<3>();
+    Mat3 load_top = Mul(a_f, top) - CrossColumns(f_sum, bottom);
     const int first = kin.first_sample[sb], last = kin.first_sample[sb + 1];
     for (int k = first; k < last; ++k) {
-      load_top -= Hat(forces[static_cast<size_t>(k)]) * kin.samples[static_cast<size_t>(k)].linear;
+      load_top -= CrossColumns(forces[static_cast<size_t>(k)],
+                               kin.samples[static_cast<size_t>(k)].linear);
     }
     matrix->load[sb].topRows<3>() += load_top;
     // Diagonal: the Jacobian in Omega_b of segment b's step of the reverse sweep, adjoints fixed
     // (HelixSegmentVjp with dE/dR = Q_b^T q_bar, dE/dp = Q_b^T r_bar and HelixChordVjp of each
     // sample's force), in closed form as in the statics' exact Hessian (helix_hessian.h).
     helix_hessian::OwnHessianSum own(omega);
-    own.AddMatrix(kin.rotation_coefficients[sb], qt * q_bar);
+    own.AddMatrix(kin.rotation_coefficients[sb], Mul(qt, q_bar));
     own.AddChord(kin.chord_coefficients[sb], qt * r_bar);
     for (int k = first; k < last; ++k) {
       own.AddChord(kin.samples[static_cast<size_t>(k)].chord, qt * forces[static_cast<size_t>(k)]);
@@ -380,14 +484,14 @@ void AddForceCurvature(const StrandModel& model, const VecX& curvatures, const K
     matrix->diagonal[sb] += 0.5 * (diagonal + diagonal.transpose());
     // Advance the sums and adjoints past segment b's start.
     const HelixSegment& segment = kin.segments[sb];
-    Mat3 q_bar_b = q_bar * segment.rotation.transpose() + r_bar * segment.chord.transpose();
+    Mat3 q_bar_b = Mul(q_bar, segment.rotation.transpose()) + r_bar * segment.chord.transpose();
     for (int k = first; k < last; ++k) {
       const Sample& s = kin.samples[static_cast<size_t>(k)];
       const Vec3& f = forces[static_cast<size_t>(k)];
-      q_bar_b += f * HelixChordFromFunctions(omega, s.u, s.functions).transpose();
+      q_bar_b += f * s.partial_chord.transpose();
       r_bar += f;
       f_sum += f;
-      a_f += Hat(f) * Hat(s.y);
+      a_f += HatProduct(f, s.y);
     }
     q_bar = q_bar_b;
   }
