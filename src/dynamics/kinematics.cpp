@@ -13,14 +13,16 @@ constexpr double kPi = 3.14159265358979323846;
 // many instructions here) with the sums in the order of the Eigen 3.4 SSE2 products they replace
 // (rows 0 and 1 by packets, (a0 b0 + a1 b1) + a2 b2; row 2 by the scalar reduction,
 // a0 b0 + (a1 b1 + a2 b2)), so the results are the same to the last bit. Any order is as accurate.
+inline void MulColumn(const Mat3& a, const double* b, double* c) {
+  c[0] = (a(0, 0) * b[0] + a(0, 1) * b[1]) + a(0, 2) * b[2];
+  c[1] = (a(1, 0) * b[0] + a(1, 1) * b[1]) + a(1, 2) * b[2];
+  c[2] = a(2, 0) * b[0] + (a(2, 1) * b[1] + a(2, 2) * b[2]);
+}
 inline Mat3 Mul(const Mat3& a, const Mat3& b) {
   Mat3 c;
-  for (int j = 0; j < 3; ++j) {
-    const double b0 = b(0, j), b1 = b(1, j), b2 = b(2, j);
-    c(0, j) = (a(0, 0) * b0 + a(0, 1) * b1) + a(0, 2) * b2;
-    c(1, j) = (a(1, 0) * b0 + a(1, 1) * b1) + a(1, 2) * b2;
-    c(2, j) = a(2, 0) * b0 + (a(2, 1) * b1 + a(2, 2) * b2);
-  }
+  MulColumn(a, b.data(), c.data());
+  MulColumn(a, b.data() + 3, c.data() + 3);
+  MulColumn(a, b.data() + 6, c.data() + 6);
   return c;
 }
 
@@ -69,6 +71,33 @@ inline Mat3 FrameInertia(const Mat3& frame, double scale, double i1, double i2) 
   Mat3 theta = Mul(weighted, frame.transpose());
   theta *= scale;
   return theta;
+}
+
+// EvaluateHelixSegment (helix.h) with the same sums, W^2 by HatProduct (the non-zero terms of
+// W W) instead of a general 3x3 product.
+inline void HelixSegmentOf(const Vec3& o, double l, HelixSegment* s) {
+  const HelixFunctions& h = s->functions = EvaluateHelixFunctions(l * o.norm());
+  const Mat3 w2 = HatProduct(o, o);
+  const double l2 = l * l, l3 = l2 * l, l4 = l3 * l;
+  // R = I + l G1 W + l^2 G2 W^2 (Rodrigues).
+  const double a1 = l * h.g[1], a2 = l * l * h.g[2];
+  Mat3& r = s->rotation;
+  r(0, 0) = 1.0 + a2 * w2(0, 0);
+  r(1, 1) = 1.0 + a2 * w2(1, 1);
+  r(2, 2) = 1.0 + a2 * w2(2, 2);
+  r(0, 1) = a1 * -o.z() + a2 * w2(0, 1);
+  r(1, 0) = a1 * o.z() + a2 * w2(1, 0);
+  r(0, 2) = a1 * o.y() + a2 * w2(0, 2);
+  r(2, 0) = a1 * -o.y() + a2 * w2(2, 0);
+  r(1, 2) = a1 * -o.x() + a2 * w2(1, 2);
+  r(2, 1) = a1 * o.x() + a2 * w2(2, 1);
+  // p = (l I + l^2 G2 W + l^3 G3 W^2) e3, c = (l^2/2 I + l^3 G3 W + l^4 G4 W^2) e3, W e3 =
+  // (Omega_y, -Omega_x, 0).
+  const double p1 = l2 * h.g[2], p2 = l3 * h.g[3];
+  s->chord = Vec3(p1 * o.y() + p2 * w2(0, 2), p1 * -o.x() + p2 * w2(1, 2), l + p2 * w2(2, 2));
+  const double c1 = l3 * h.g[3], c2 = l4 * h.g[4];
+  s->moment = Vec3(c1 * o.y() + c2 * w2(0, 2), c1 * -o.x() + c2 * w2(1, 2),
+                   0.5 * l2 + c2 * w2(2, 2));
 }
 
 // Left Jacobian of the rotation exp(u W) in the segment's start frame: dR R^T = [A dOmega]x with
@@ -192,7 +221,7 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
     kin->frames[si] = q;
     kin->starts[si] = r;
     HelixSegment& segment = kin->segments[si];
-    segment = EvaluateHelixSegment(o, l);
+    HelixSegmentOf(o, l, &segment);
     kin->first_sample[si] = static_cast<int>(si * points);
     // W^2 = Omega Omega^T - |Omega|^2 I and W^2 e3 (helix.h), once per segment.
     const double squared_norm = o.squaredNorm();
@@ -411,35 +440,22 @@ void ApplyJacobianTranspose(const StrandModel& model, const VecX& curvatures,
   // (tau_s + y_s x F_s, F_s) about the root, tau_s = sum_d Q_s,d x G_s,d (the columns: <G, [w]x Q>
   // = w . sum_d Q_d x G_d), and dPhi/dOmega_a = S_a^T W_(past a) + sum_(s in a) (angular_s^T tau_s
   // + linear_s^T F_s), W_(past a) the sum of the wrenches of the samples past segment a.
-  // The sums are written out in the order of the Eigen products they replace (the 3x6 by 6
-  // product as (p0 + (p2 + p4)) + (p1 + (p3 + p5)), the transposed 3x3 ones left to right).
-  Vec3 torque = Vec3::Zero(), force = Vec3::Zero();  // the wrench W_(past a) about the root
+  Vec6 wrench = Vec6::Zero();
   for (int i = n - 1; i >= 0; --i) {
     const size_t si = static_cast<size_t>(i);
-    const Mat63& twist = kin.twist[si];
-    double g[3];
-    for (int c = 0; c < 3; ++c) {
-      g[c] = (twist(0, c) * torque.x() + (twist(2, c) * torque.z() + twist(4, c) * force.y())) +
-             (twist(1, c) * torque.y() + (twist(3, c) * force.x() + twist(5, c) * force.z()));
-    }
+    Vec3 g = kin.twist[si].transpose() * wrench;
     for (int k = kin.first_sample[si]; k < kin.first_sample[si + 1]; ++k) {
       const Sample& s = kin.samples[static_cast<size_t>(k)];
       const Vec3& f = forces[static_cast<size_t>(k)];
       const Mat3& adjoint = frame_adjoints[static_cast<size_t>(k)];
       const Vec3 tau = s.frame.col(0).cross(adjoint.col(0)) + s.frame.col(1).cross(adjoint.col(1)) +
                        s.frame.col(2).cross(adjoint.col(2));
-      for (int c = 0; c < 3; ++c) {
-        g[c] += (s.angular(0, c) * tau.x() + s.angular(1, c) * tau.y()) + s.angular(2, c) * tau.z();
-      }
-      for (int c = 0; c < 3; ++c) {
-        g[c] += (s.linear(0, c) * f.x() + s.linear(1, c) * f.y()) + s.linear(2, c) * f.z();
-      }
-      torque += tau + s.y.cross(f);
-      force += f;
+      g.noalias() += s.angular.transpose() * tau;
+      g.noalias() += s.linear.transpose() * f;
+      wrench.head<3>() += tau + s.y.cross(f);
+      wrench.tail<3>() += f;
     }
-    (*gradient)(3 * i) = g[0];
-    (*gradient)(3 * i + 1) = g[1];
-    (*gradient)(3 * i + 2) = g[2];
+    gradient->segment<3>(3 * i) = g;
   }
 }
 
