@@ -100,6 +100,62 @@ inline void HelixSegmentOf(const Vec3& o, double l, HelixSegment* s) {
                    0.5 * l2 + c2 * w2(2, 2));
 }
 
+// helix_hessian::OwnHessianSum (the same sums in the same order) with the chord terms written
+// out: X = d e3^T has M = (d e3^T + e3 d^T)/2 - d_z I with two zero entries, M (0, 1) and
+// M (1, 0), which are skipped, and the Hessian formed entry by entry.
+class OwnHessian {
+ public:
+  explicit OwnHessian(const Vec3& omega) : o_(omega) {}
+
+  void AddMatrix(const helix_hessian::Coefficients& c, const Mat3& x) {
+    const Mat3 m = 0.5 * (x + x.transpose()) - x.trace() * Mat3::Identity();
+    const Vec3 m_omega = m * o_;
+    Add(c, Vee(x), m_omega);
+    m_ += (2.0 * c.a2) * m;
+  }
+  void AddChord(const helix_hessian::Coefficients& c, const Vec3& d) {
+    const double half_x = 0.5 * d.x(), half_y = 0.5 * d.y(), half_z = 0.5 * d.z();
+    const double d_omega = d.dot(o_);
+    const Vec3 m_omega(0.5 * (o_.z() * d.x()) - d.z() * o_.x(),
+                       0.5 * (o_.z() * d.y()) - d.z() * o_.y(),
+                       0.5 * (o_.z() * d.z() + d_omega) - d.z() * o_.z());
+    Add(c, Vec3(-d.y(), d.x(), 0.0), m_omega);
+    const double a = 2.0 * c.a2;
+    m_(0, 0) += a * -d.z();
+    m_(1, 1) += a * -d.z();
+    m_(2, 2) += a * ((half_z + half_z) - d.z());
+    m_(0, 2) += a * half_x;
+    m_(2, 0) += a * half_x;
+    m_(1, 2) += a * half_y;
+    m_(2, 1) += a * half_y;
+  }
+  Mat3 Hessian() const {
+    Mat3 h;
+    for (int j = 0; j < 3; ++j) {
+      for (int i = 0; i < 3; ++i) {
+        h(i, j) = ((o_(i) * t_(j) + t_(i) * o_(j)) + (s_ * o_(i)) * o_(j)) + m_(i, j);
+      }
+    }
+    h.diagonal().array() += diagonal_;
+    return h;
+  }
+
+ private:
+  void Add(const helix_hessian::Coefficients& c, const Vec3& v, const Vec3& m_omega) {
+    const double rho = o_.dot(m_omega);
+    const double ov = o_.dot(v);
+    t_ += c.b1 * v + (2.0 * c.b2) * m_omega;
+    s_ += ov * c.c1 + rho * c.c2;
+    diagonal_ += ov * c.b1 + rho * c.b2;
+  }
+
+  Vec3 o_;
+  Vec3 t_ = Vec3::Zero();
+  double s_ = 0.0;
+  Mat3 m_ = Mat3::Zero();
+  double diagonal_ = 0.0;
+};
+
 // Left Jacobian of the rotation exp(u W) in the segment's start frame: dR R^T = [A dOmega]x with
 // A = u I + u^2 G2 W + u^3 G3 W^2 (strand_hessian.cpp, "the rotation's left Jacobian"), with
 // W^2 = Omega Omega^T - |Omega|^2 I; entry by entry (squared_norm = |Omega|^2).
@@ -490,7 +546,7 @@ void AddForceCurvature(const StrandModel& model, const VecX& curvatures, const K
     // Diagonal: the Jacobian in Omega_b of segment b's step of the reverse sweep, adjoints fixed
     // (HelixSegmentVjp with dE/dR = Q_b^T q_bar, dE/dp = Q_b^T r_bar and HelixChordVjp of each
     // sample's force), in closed form as in the statics' exact Hessian (helix_hessian.h).
-    helix_hessian::OwnHessianSum own(omega);
+    OwnHessian own(omega);
     own.AddMatrix(kin.rotation_coefficients[sb], Mul(qt, q_bar));
     own.AddChord(kin.chord_coefficients[sb], qt * r_bar);
     for (int k = first; k < last; ++k) {

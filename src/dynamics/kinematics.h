@@ -46,7 +46,11 @@ struct Kinematics {
   std::vector<Mat63> twist;         ///< S_i, full (rows 0-2 rotation, 3-5 root-point velocity)
   std::vector<Mat3> frames;         ///< Q_i at segment starts
   std::vector<Vec3> starts;         ///< r_i - r(0) at segment starts (m)
-  std::vector<HelixSegment> segments;
+  /// The segments' closed forms (HelixSegment, not value-initialized either: all written).
+  struct Segment : HelixSegment {
+    Segment() {}
+  };
+  std::vector<Segment> segments;
   std::vector<Sample> samples;      ///< segment by segment, root to tip
   std::vector<int> first_sample;    ///< index of segment i's first sample; size n + 1
   /// Coefficients of A_1 (rotation) and A_2 (chord) of each whole segment (helix_hessian.h);
