@@ -433,23 +433,15 @@ void AssembleMetric(const StrandModel& model, const DynamicsOptions& options,
       // P^T W K with K = [angular; linear]: [Theta K_a + a [y]x K_l; a K_l].
       const Mat3 theta_angular = Mul(theta, s.angular);
       const Mat3 y_linear = CrossColumns(ay, s.linear);
+      const Mat3 a_linear = a * s.linear;
       for (int j = 0; j < 3; ++j) {
         for (int r = 0; r < 3; ++r) {
           load(r, j) += theta_angular(r, j) + y_linear(r, j);
-          load(3 + r, j) += a * s.linear(r, j);
+          load(3 + r, j) += a_linear(r, j);
         }
       }
       // K^T W K.
-      const Mat3 angular_theta_angular = Mul(TransposeMul(s.angular, theta), s.angular);
-      Mat3 linear_linear;
-      for (int j = 0; j < 3; ++j) {
-        for (int r = 0; r < 3; ++r) {
-          linear_linear(r, j) = ((a * s.linear(0, r)) * s.linear(0, j) +
-                                 (a * s.linear(1, r)) * s.linear(1, j)) +
-                                (a * s.linear(2, r)) * s.linear(2, j);
-        }
-      }
-      diagonal += angular_theta_angular + linear_linear;
+      diagonal += Mul(TransposeMul(s.angular, theta), s.angular) + TransposeMul(a_linear, s.linear);
     }
     Mat3& symmetric = metric->diagonal[si];
     for (int j = 0; j < 3; ++j) {
