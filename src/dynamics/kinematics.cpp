@@ -211,6 +211,7 @@ inline helix_hessian::Coefficients CoefficientsOf(double l, const double g[9]) {
   auto d = [&](int k) { return k * g[k + 2] - g[k + 1]; };
   double lp[m + 6];
   lp[0] = 1.0;
+  #pragma GCC unroll 8
   for (int k = 1; k < m + 6; ++k) lp[k] = lp[k - 1] * l;
   helix_hessian::Coefficients c;
   c.a1 = lp[m] * g[m];
