@@ -28,16 +28,20 @@ inline Mat3 Mul(const Mat3& a, const Mat3& b) {
   return c;
 }
 
+// (CrossColumns and TransposeMul read their factors into locals before storing anything: the
+// result may be the caller's memory, which the compiler must otherwise assume to alias them.)
 // [a]x M = a x (each column of M): two products an entry, the zero terms of Hat(a) * M dropped.
 inline Mat3 CrossColumns(const Vec3& a, const Mat3& m) {
-  Mat3 c;
+  const double ax = a.x(), ay = a.y(), az = a.z();
+  double c[9];
   #pragma GCC unroll 3
   for (int j = 0; j < 3; ++j) {
-    c(0, j) = a.y() * m(2, j) - a.z() * m(1, j);
-    c(1, j) = a.z() * m(0, j) - a.x() * m(2, j);
-    c(2, j) = a.x() * m(1, j) - a.y() * m(0, j);
+    const double m0 = m(0, j), m1 = m(1, j), m2 = m(2, j);
+    c[3 * j] = ay * m2 - az * m1;
+    c[3 * j + 1] = az * m0 - ax * m2;
+    c[3 * j + 2] = ax * m1 - ay * m0;
   }
-  return c;
+  return Eigen::Map<const Mat3>(c);
 }
 
 // [b]x [y]x = y b^T - (b . y) I: two products on the diagonal, one off it (Hat(b) * Hat(y)'s
@@ -58,13 +62,18 @@ inline Mat3 HatProduct(const Vec3& b, const Vec3& y) {
 
 // a^T b (3x3), the sums left to right (as Eigen's product with a transposed left factor).
 inline Mat3 TransposeMul(const Mat3& a, const Mat3& b) {
-  Mat3 c;
+  const double a00 = a(0, 0), a10 = a(1, 0), a20 = a(2, 0);
+  const double a01 = a(0, 1), a11 = a(1, 1), a21 = a(2, 1);
+  const double a02 = a(0, 2), a12 = a(1, 2), a22 = a(2, 2);
+  double c[9];
   #pragma GCC unroll 3
   for (int j = 0; j < 3; ++j) {
-    #pragma GCC unroll 3
-    for (int i = 0; i < 3; ++i) c(i, j) = (a(0, i) * b(0, j) + a(1, i) * b(1, j)) + a(2, i) * b(2, j);
+    const double b0 = b(0, j), b1 = b(1, j), b2 = b(2, j);
+    c[3 * j] = (a00 * b0 + a10 * b1) + a20 * b2;
+    c[3 * j + 1] = (a01 * b0 + a11 * b1) + a21 * b2;
+    c[3 * j + 2] = (a02 * b0 + a12 * b1) + a22 * b2;
   }
-  return c;
+  return Eigen::Map<const Mat3>(c);
 }
 
 // scale Q diag(i1, i2, i1 + i2) Q^T (SectionInertia).
