@@ -87,10 +87,55 @@ inline Mat3 FrameInertia(const Mat3& frame, double scale, double i1, double i2) 
   return theta;
 }
 
+// EvaluateHelixFunctions (helix.cpp) with the same operations and the same Taylor coefficients
+// (G5 and G6 from 12 terms of their series below x = 2, then the upward recurrence; the closed
+// forms above), the two Horner sums in one loop and inlined: the samples call it once each.
+struct Taylor56Table {
+  static constexpr int kTerms = 12;
+  double c[2][kTerms];  // c[m - 5][k] = (-1)^k / (2k + m)!, m = 5, 6
+  Taylor56Table() {
+    for (int m = 5; m <= 6; ++m) {
+      for (int k = 0; k < kTerms; ++k) {
+        double factorial = 1.0;
+        for (int j = 2; j <= 2 * k + m; ++j) factorial *= j;
+        c[m - 5][k] = (k % 2 == 0 ? 1.0 : -1.0) / factorial;
+      }
+    }
+  }
+};
+const Taylor56Table kTaylor56;
+
+inline void HelixFunctionsOf(double x, HelixFunctions* h) {
+  h->g[0] = 0.0;
+  const double y = x * x;
+  if (std::abs(x) < 2.0) {
+    const int terms = y < 0.0625 ? 6 : y < 0.25 ? 7 : y < 1.0 ? 9 : Taylor56Table::kTerms;
+    double g5 = kTaylor56.c[0][terms - 1], g6 = kTaylor56.c[1][terms - 1];
+    for (int k = terms - 2; k >= 0; --k) {
+      g5 = g5 * y + kTaylor56.c[0][k];
+      g6 = g6 * y + kTaylor56.c[1][k];
+    }
+    h->g[5] = g5;
+    h->g[6] = g6;
+    h->g[4] = 1.0 / 24.0 - y * g6;
+    h->g[3] = 1.0 / 6.0 - y * g5;
+    h->g[2] = 0.5 - y * h->g[4];
+    h->g[1] = 1.0 - y * h->g[3];
+    return;
+  }
+  h->g[1] = std::sin(x) / x;
+  h->g[2] = (1.0 - std::cos(x)) / y;
+  h->g[3] = (1.0 - h->g[1]) / y;
+  h->g[4] = (0.5 - h->g[2]) / y;
+  h->g[5] = (1.0 / 6.0 - h->g[3]) / y;
+  h->g[6] = (1.0 / 24.0 - h->g[4]) / y;
+}
+
 // EvaluateHelixSegment (helix.h) with the same sums, W^2 by HatProduct (the non-zero terms of
 // W W) instead of a general 3x3 product.
 inline void HelixSegmentOf(const Vec3& o, double l, HelixSegment* s) {
-  const HelixFunctions& h = s->functions = EvaluateHelixFunctions(l * o.norm());
+  const HelixFunctions& h = s->functions;
+  HelixFunctionsOf(l * o.norm(), &s->functions);
   const Mat3 w2 = HatProduct(o, o);
   const double l2 = l * l, l3 = l2 * l, l4 = l3 * l;
   // R = I + l G1 W + l^2 G2 W^2 (Rodrigues).
@@ -214,6 +259,32 @@ inline Mat3 ChordJacobian(const Vec3& o, const helix_hessian::Coefficients& c) {
   return d;
 }
 
+// helix_hessian::HelixFunctions8 with the same operations: the two Horner sums of G7 and G8 in
+// one loop and the recurrences unrolled (GCC -O2 keeps the header's loops rolled).
+inline void HelixFunctions8(double x, double g[9]) {
+  using helix_hessian::kInverseFactorial;
+  using helix_hessian::kTaylor8;
+  const double y = x * x;
+  g[0] = 0.0;
+  if (std::abs(x) < 2.0) {
+    const int terms = y < 0.0625 ? 6 : y < 0.25 ? 7 : y < 1.0 ? 9 : helix_hessian::kTaylorTerms8;
+    double g7 = kTaylor8.c[0][terms - 1], g8 = kTaylor8.c[1][terms - 1];
+    for (int k = terms - 2; k >= 0; --k) {
+      g7 = g7 * y + kTaylor8.c[0][k];
+      g8 = g8 * y + kTaylor8.c[1][k];
+    }
+    g[7] = g7;
+    g[8] = g8;
+    #pragma GCC unroll 6
+    for (int m = 6; m >= 1; --m) g[m] = kInverseFactorial[m] - y * g[m + 2];
+    return;
+  }
+  g[1] = std::sin(x) / x;
+  g[2] = (1.0 - std::cos(x)) / y;
+  #pragma GCC unroll 6
+  for (int m = 1; m <= 6; ++m) g[m + 2] = (kInverseFactorial[m] - g[m]) / y;
+}
+
 // helix_hessian::CoefficientsOf for a fixed m, inlined (the same products in the same order).
 template <int m>
 inline helix_hessian::Coefficients CoefficientsOf(double l, const double g[9]) {
@@ -304,7 +375,7 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
       s.segment = i;
       s.u = rule.nodes[j] * l;
       s.weight = rule.weights[j] * l;
-      s.functions = EvaluateHelixFunctions(norm * s.u);
+      HelixFunctionsOf(norm * s.u, &s.functions);
       const double u = s.u, g1 = s.functions.g[1], g2 = s.functions.g[2], g3 = s.functions.g[3];
       // The partial chord h(u) = u e3 + u^2 G2 W e3 + u^3 G3 W^2 e3 (HelixChordFromFunctions).
       const double c2 = u * u * g2, c3 = u * u * u * g3;
@@ -350,7 +421,7 @@ void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* 
     // The coefficients of the second derivatives (helix_hessian.h): only the Newton matrix's
     // Jacobians and force curvature use them, so they are not part of ComputeKinematics.
     double g[9];
-    helix_hessian::HelixFunctions8(l * norm, g);
+    HelixFunctions8(l * norm, g);
     kin->rotation_coefficients[si] = CoefficientsOf<1>(l, g);
     kin->chord_coefficients[si] = CoefficientsOf<2>(l, g);
     // S_i: a change dOmega of segment i turns everything past its end by omega = Q_i A(l) dOmega
@@ -371,7 +442,7 @@ void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* 
     for (int k = kin->first_sample[si]; k < kin->first_sample[si + 1]; ++k) {
       Sample& s = kin->samples[static_cast<size_t>(k)];
       double gu[9];
-      helix_hessian::HelixFunctions8(norm * s.u, gu);
+      HelixFunctions8(norm * s.u, gu);
       s.chord = CoefficientsOf<2>(s.u, gu);
       s.angular = Mul(q, RotationJacobian(o, squared_norm, s.u, s.functions));
       s.linear = Mul(q, ChordJacobian(o, s.chord));  // dh(u)/dOmega
