@@ -15,10 +15,11 @@ constexpr double kPi = 3.14159265358979323846;
 // many instructions here) with the sums in the order of the Eigen 3.4 SSE2 products they replace
 // (rows 0 and 1 by packets, (a0 b0 + a1 b1) + a2 b2; row 2 by the scalar reduction,
 // a0 b0 + (a1 b1 + a2 b2)), so the results are the same to the last bit. Any order is as accurate.
-inline void MulColumn(const Mat3& a, const double* b, double* c) {
-  c[0] = (a(0, 0) * b[0] + a(0, 1) * b[1]) + a(0, 2) * b[2];
-  c[1] = (a(1, 0) * b[0] + a(1, 1) * b[1]) + a(1, 2) * b[2];
-  c[2] = a(2, 0) * b[0] + (a(2, 1) * b[1] + a(2, 2) * b[2]);
+inline void MulColumn(const Mat3& a, const double* b, double* __restrict__ c) {
+  const double b0 = b[0], b1 = b[1], b2 = b[2];
+  c[0] = (a(0, 0) * b0 + a(0, 1) * b1) + a(0, 2) * b2;
+  c[1] = (a(1, 0) * b0 + a(1, 1) * b1) + a(1, 2) * b2;
+  c[2] = a(2, 0) * b0 + (a(2, 1) * b1 + a(2, 2) * b2);
 }
 inline Mat3 Mul(const Mat3& a, const Mat3& b) {
   Mat3 c;
