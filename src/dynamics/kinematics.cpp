@@ -14,7 +14,9 @@ constexpr double kPi = 3.14159265358979323846;
 // The 3x3 products below are written out (Eigen's small fixed-size products cost about twice as
 // many instructions here) with the sums in the order of the Eigen 3.4 SSE2 products they replace
 // (rows 0 and 1 by packets, (a0 b0 + a1 b1) + a2 b2; row 2 by the scalar reduction,
-// a0 b0 + (a1 b1 + a2 b2)), so the results are the same to the last bit. Any order is as accurate.
+// a0 b0 + (a1 b1 + a2 b2)), so the results are the same to the last bit as before on x86-64 (the
+// written-out order is the same on every target; Eigen's varies with the SIMD width). Any order is
+// as accurate. c is __restrict__: the factors are not reloaded after each store.
 inline void MulColumn(const Mat3& a, const double* b, double* __restrict__ c) {
   const double b0 = b[0], b1 = b[1], b2 = b[2];
   c[0] = (a(0, 0) * b0 + a(0, 1) * b1) + a(0, 2) * b2;
