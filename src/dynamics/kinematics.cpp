@@ -9,13 +9,301 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// The small loops over 3 rows or columns carry `#pragma GCC unroll 3` (GCC and Clang): at -O2 GCC
+// leaves them rolled, which cost the metric's assembly a fifth more instructions.
+// The 3x3 products below are written out (Eigen's small fixed-size products cost about twice as
+// many instructions here) with the sums in the order of the Eigen 3.4 SSE2 products they replace
+// (rows 0 and 1 by packets, (a0 b0 + a1 b1) + a2 b2; row 2 by the scalar reduction,
+// a0 b0 + (a1 b1 + a2 b2)), so the results are the same to the last bit as before on x86-64 (the
+// written-out order is the same on every target; Eigen's varies with the SIMD width). Any order is
+// as accurate. c is __restrict__: the factors are not reloaded after each store.
+inline void MulColumn(const Mat3& a, const double* b, double* __restrict__ c) {
+  const double b0 = b[0], b1 = b[1], b2 = b[2];
+  c[0] = (a(0, 0) * b0 + a(0, 1) * b1) + a(0, 2) * b2;
+  c[1] = (a(1, 0) * b0 + a(1, 1) * b1) + a(1, 2) * b2;
+  c[2] = a(2, 0) * b0 + (a(2, 1) * b1 + a(2, 2) * b2);
+}
+inline Mat3 Mul(const Mat3& a, const Mat3& b) {
+  Mat3 c;
+  MulColumn(a, b.data(), c.data());
+  MulColumn(a, b.data() + 3, c.data() + 3);
+  MulColumn(a, b.data() + 6, c.data() + 6);
+  return c;
+}
+
+// (CrossColumns and TransposeMul read their factors into locals before storing anything: the
+// result may be the caller's memory, which the compiler must otherwise assume to alias them.)
+// [a]x M = a x (each column of M): two products an entry, the zero terms of Hat(a) * M dropped.
+inline Mat3 CrossColumns(const Vec3& a, const Mat3& m) {
+  const double ax = a.x(), ay = a.y(), az = a.z();
+  double c[9];
+  #pragma GCC unroll 3
+  for (int j = 0; j < 3; ++j) {
+    const double m0 = m(0, j), m1 = m(1, j), m2 = m(2, j);
+    c[3 * j] = ay * m2 - az * m1;
+    c[3 * j + 1] = az * m0 - ax * m2;
+    c[3 * j + 2] = ax * m1 - ay * m0;
+  }
+  return Eigen::Map<const Mat3>(c);
+}
+
+// [b]x [y]x = y b^T - (b . y) I: two products on the diagonal, one off it (Hat(b) * Hat(y)'s
+// non-zero terms).
+inline Mat3 HatProduct(const Vec3& b, const Vec3& y) {
+  Mat3 m;
+  m(0, 0) = -(b.z() * y.z()) - b.y() * y.y();
+  m(1, 1) = -(b.z() * y.z()) - b.x() * y.x();
+  m(2, 2) = -(b.y() * y.y()) - b.x() * y.x();
+  m(0, 1) = b.y() * y.x();
+  m(0, 2) = b.z() * y.x();
+  m(1, 0) = b.x() * y.y();
+  m(1, 2) = b.z() * y.y();
+  m(2, 0) = b.x() * y.z();
+  m(2, 1) = b.y() * y.z();
+  return m;
+}
+
+// a^T b (3x3), the sums left to right (as Eigen's product with a transposed left factor).
+inline Mat3 TransposeMul(const Mat3& a, const Mat3& b) {
+  const double a00 = a(0, 0), a10 = a(1, 0), a20 = a(2, 0);
+  const double a01 = a(0, 1), a11 = a(1, 1), a21 = a(2, 1);
+  const double a02 = a(0, 2), a12 = a(1, 2), a22 = a(2, 2);
+  double c[9];
+  #pragma GCC unroll 3
+  for (int j = 0; j < 3; ++j) {
+    const double b0 = b(0, j), b1 = b(1, j), b2 = b(2, j);
+    c[3 * j] = (a00 * b0 + a10 * b1) + a20 * b2;
+    c[3 * j + 1] = (a01 * b0 + a11 * b1) + a21 * b2;
+    c[3 * j + 2] = (a02 * b0 + a12 * b1) + a22 * b2;
+  }
+  return Eigen::Map<const Mat3>(c);
+}
+
+// scale Q diag(i1, i2, i1 + i2) Q^T (SectionInertia).
+inline Mat3 FrameInertia(const Mat3& frame, double scale, double i1, double i2) {
+  Mat3 weighted = frame;
+  weighted.col(0) *= i1;
+  weighted.col(1) *= i2;
+  weighted.col(2) *= i1 + i2;
+  Mat3 theta = Mul(weighted, frame.transpose());
+  theta *= scale;
+  return theta;
+}
+
+// EvaluateHelixFunctions (helix.cpp) with the same operations and the same Taylor coefficients
+// (G5 and G6 from 12 terms of their series below x = 2, then the upward recurrence; the closed
+// forms above), the two Horner sums in one loop and inlined: the samples call it once each.
+struct Taylor56Table {
+  static constexpr int kTerms = 12;
+  double c[2][kTerms];  // c[m - 5][k] = (-1)^k / (2k + m)!, m = 5, 6
+  Taylor56Table() {
+    for (int m = 5; m <= 6; ++m) {
+      for (int k = 0; k < kTerms; ++k) {
+        double factorial = 1.0;
+        for (int j = 2; j <= 2 * k + m; ++j) factorial *= j;
+        c[m - 5][k] = (k % 2 == 0 ? 1.0 : -1.0) / factorial;
+      }
+    }
+  }
+};
+const Taylor56Table kTaylor56;
+
+inline void HelixFunctionsOf(double x, HelixFunctions* h) {
+  h->g[0] = 0.0;
+  const double y = x * x;
+  if (std::abs(x) < 2.0) {
+    const int terms = y < 0.0625 ? 6 : y < 0.25 ? 7 : y < 1.0 ? 9 : Taylor56Table::kTerms;
+    double g5 = kTaylor56.c[0][terms - 1], g6 = kTaylor56.c[1][terms - 1];
+    for (int k = terms - 2; k >= 0; --k) {
+      g5 = g5 * y + kTaylor56.c[0][k];
+      g6 = g6 * y + kTaylor56.c[1][k];
+    }
+    h->g[5] = g5;
+    h->g[6] = g6;
+    h->g[4] = 1.0 / 24.0 - y * g6;
+    h->g[3] = 1.0 / 6.0 - y * g5;
+    h->g[2] = 0.5 - y * h->g[4];
+    h->g[1] = 1.0 - y * h->g[3];
+    return;
+  }
+  h->g[1] = std::sin(x) / x;
+  h->g[2] = (1.0 - std::cos(x)) / y;
+  h->g[3] = (1.0 - h->g[1]) / y;
+  h->g[4] = (0.5 - h->g[2]) / y;
+  h->g[5] = (1.0 / 6.0 - h->g[3]) / y;
+  h->g[6] = (1.0 / 24.0 - h->g[4]) / y;
+}
+
+// EvaluateHelixSegment (helix.h) with the same sums, W^2 by HatProduct (the non-zero terms of
+// W W) instead of a general 3x3 product.
+inline void HelixSegmentOf(const Vec3& o, double l, HelixSegment* s) {
+  const HelixFunctions& h = s->functions;
+  HelixFunctionsOf(l * o.norm(), &s->functions);
+  const Mat3 w2 = HatProduct(o, o);
+  const double l2 = l * l, l3 = l2 * l, l4 = l3 * l;
+  // R = I + l G1 W + l^2 G2 W^2 (Rodrigues).
+  const double a1 = l * h.g[1], a2 = l * l * h.g[2];
+  Mat3& r = s->rotation;
+  r(0, 0) = 1.0 + a2 * w2(0, 0);
+  r(1, 1) = 1.0 + a2 * w2(1, 1);
+  r(2, 2) = 1.0 + a2 * w2(2, 2);
+  r(0, 1) = a1 * -o.z() + a2 * w2(0, 1);
+  r(1, 0) = a1 * o.z() + a2 * w2(1, 0);
+  r(0, 2) = a1 * o.y() + a2 * w2(0, 2);
+  r(2, 0) = a1 * -o.y() + a2 * w2(2, 0);
+  r(1, 2) = a1 * -o.x() + a2 * w2(1, 2);
+  r(2, 1) = a1 * o.x() + a2 * w2(2, 1);
+  // p = (l I + l^2 G2 W + l^3 G3 W^2) e3, c = (l^2/2 I + l^3 G3 W + l^4 G4 W^2) e3, W e3 =
+  // (Omega_y, -Omega_x, 0).
+  const double p1 = l2 * h.g[2], p2 = l3 * h.g[3];
+  s->chord = Vec3(p1 * o.y() + p2 * w2(0, 2), p1 * -o.x() + p2 * w2(1, 2), l + p2 * w2(2, 2));
+  const double c1 = l3 * h.g[3], c2 = l4 * h.g[4];
+  s->moment = Vec3(c1 * o.y() + c2 * w2(0, 2), c1 * -o.x() + c2 * w2(1, 2),
+                   0.5 * l2 + c2 * w2(2, 2));
+}
+
+// helix_hessian::OwnHessianSum (the same sums in the same order) with the chord terms written
+// out: X = d e3^T has M = (d e3^T + e3 d^T)/2 - d_z I with two zero entries, M (0, 1) and
+// M (1, 0), which are skipped, and the Hessian formed entry by entry.
+class OwnHessian {
+ public:
+  explicit OwnHessian(const Vec3& omega) : o_(omega) {}
+
+  void AddMatrix(const helix_hessian::Coefficients& c, const Mat3& x) {
+    const Mat3 m = 0.5 * (x + x.transpose()) - x.trace() * Mat3::Identity();
+    const Vec3 m_omega = m * o_;
+    Add(c, Vee(x), m_omega);
+    m_ += (2.0 * c.a2) * m;
+  }
+  void AddChord(const helix_hessian::Coefficients& c, const Vec3& d) {
+    const double half_x = 0.5 * d.x(), half_y = 0.5 * d.y(), half_z = 0.5 * d.z();
+    const double d_omega = d.dot(o_);
+    const Vec3 m_omega(0.5 * (o_.z() * d.x()) - d.z() * o_.x(),
+                       0.5 * (o_.z() * d.y()) - d.z() * o_.y(),
+                       0.5 * (o_.z() * d.z() + d_omega) - d.z() * o_.z());
+    Add(c, Vec3(-d.y(), d.x(), 0.0), m_omega);
+    const double a = 2.0 * c.a2;
+    m_(0, 0) += a * -d.z();
+    m_(1, 1) += a * -d.z();
+    m_(2, 2) += a * ((half_z + half_z) - d.z());
+    m_(0, 2) += a * half_x;
+    m_(2, 0) += a * half_x;
+    m_(1, 2) += a * half_y;
+    m_(2, 1) += a * half_y;
+  }
+  Mat3 Hessian() const {
+    Mat3 h;
+    #pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j) {
+      #pragma GCC unroll 3
+      for (int i = 0; i < 3; ++i) {
+        h(i, j) = ((o_(i) * t_(j) + t_(i) * o_(j)) + (s_ * o_(i)) * o_(j)) + m_(i, j);
+      }
+    }
+    h.diagonal().array() += diagonal_;
+    return h;
+  }
+
+ private:
+  void Add(const helix_hessian::Coefficients& c, const Vec3& v, const Vec3& m_omega) {
+    const double rho = o_.dot(m_omega);
+    const double ov = o_.dot(v);
+    t_ += c.b1 * v + (2.0 * c.b2) * m_omega;
+    s_ += ov * c.c1 + rho * c.c2;
+    diagonal_ += ov * c.b1 + rho * c.b2;
+  }
+
+  Vec3 o_;
+  Vec3 t_ = Vec3::Zero();
+  double s_ = 0.0;
+  Mat3 m_ = Mat3::Zero();
+  double diagonal_ = 0.0;
+};
+
 // Left Jacobian of the rotation exp(u W) in the segment's start frame: dR R^T = [A dOmega]x with
-// A = u I + u^2 G2 W + u^3 G3 W^2 (strand_hessian.cpp, "the rotation's left Jacobian").
-Mat3 RotationJacobian(const Vec3& omega, double u, const HelixFunctions& g) {
-  const Mat3 w = Hat(omega);
-  Mat3 w2 = omega * omega.transpose();
-  w2.diagonal().array() -= omega.squaredNorm();
-  return u * Mat3::Identity() + (u * u * g.g[2]) * w + (u * u * u * g.g[3]) * w2;
+// A = u I + u^2 G2 W + u^3 G3 W^2 (strand_hessian.cpp, "the rotation's left Jacobian"), with
+// W^2 = Omega Omega^T - |Omega|^2 I; entry by entry (squared_norm = |Omega|^2).
+inline Mat3 RotationJacobian(const Vec3& o, double squared_norm, double u,
+                             const HelixFunctions& g) {
+  const double c2 = u * u * g.g[2], c3 = u * u * u * g.g[3];
+  Mat3 a;
+  a(0, 0) = u + c3 * (o.x() * o.x() - squared_norm);
+  a(1, 1) = u + c3 * (o.y() * o.y() - squared_norm);
+  a(2, 2) = u + c3 * (o.z() * o.z() - squared_norm);
+  a(0, 1) = c2 * -o.z() + c3 * (o.x() * o.y());
+  a(1, 0) = c2 * o.z() + c3 * (o.y() * o.x());
+  a(0, 2) = c2 * o.y() + c3 * (o.x() * o.z());
+  a(2, 0) = c2 * -o.y() + c3 * (o.z() * o.x());
+  a(1, 2) = c2 * -o.x() + c3 * (o.y() * o.z());
+  a(2, 1) = c2 * o.x() + c3 * (o.z() * o.y());
+  return a;
+}
+
+// helix_hessian::ChordDerivative entry by entry: u Omega^T + a2 Omega_z I - [a1 e3 + a2 W e3]x,
+// u = b1 W e3 + b2 W^2 e3 - a2 e3, W e3 = (Omega_y, -Omega_x, 0),
+// W^2 e3 = (Omega_z Omega_x, Omega_z Omega_y, -Omega_x^2 - Omega_y^2).
+inline Mat3 ChordJacobian(const Vec3& o, const helix_hessian::Coefficients& c) {
+  const double w2x = o.z() * o.x(), w2y = o.z() * o.y(), w2z = -(o.x() * o.x()) - o.y() * o.y();
+  const double ux = c.b1 * o.y() + c.b2 * w2x;
+  const double uy = c.b1 * -o.x() + c.b2 * w2y;
+  const double uz = c.b2 * w2z - c.a2;
+  const double vx = c.a2 * o.y(), vy = c.a2 * -o.x(), vz = c.a1;  // a1 e3 + a2 W e3
+  const double diagonal = c.a2 * o.z();
+  Mat3 d;
+  d(0, 0) = ux * o.x() + diagonal;
+  d(1, 0) = uy * o.x() - vz;
+  d(2, 0) = uz * o.x() + vy;
+  d(0, 1) = ux * o.y() + vz;
+  d(1, 1) = uy * o.y() + diagonal;
+  d(2, 1) = uz * o.y() - vx;
+  d(0, 2) = ux * o.z() - vy;
+  d(1, 2) = uy * o.z() + vx;
+  d(2, 2) = uz * o.z() + diagonal;
+  return d;
+}
+
+// helix_hessian::HelixFunctions8 with the same operations: the two Horner sums of G7 and G8 in
+// one loop and the recurrences unrolled (GCC -O2 keeps the header's loops rolled).
+inline void HelixFunctions8(double x, double g[9]) {
+  using helix_hessian::kInverseFactorial;
+  using helix_hessian::kTaylor8;
+  const double y = x * x;
+  g[0] = 0.0;
+  if (std::abs(x) < 2.0) {
+    const int terms = y < 0.0625 ? 6 : y < 0.25 ? 7 : y < 1.0 ? 9 : helix_hessian::kTaylorTerms8;
+    double g7 = kTaylor8.c[0][terms - 1], g8 = kTaylor8.c[1][terms - 1];
+    for (int k = terms - 2; k >= 0; --k) {
+      g7 = g7 * y + kTaylor8.c[0][k];
+      g8 = g8 * y + kTaylor8.c[1][k];
+    }
+    g[7] = g7;
+    g[8] = g8;
+    #pragma GCC unroll 6
+    for (int m = 6; m >= 1; --m) g[m] = kInverseFactorial[m] - y * g[m + 2];
+    return;
+  }
+  g[1] = std::sin(x) / x;
+  g[2] = (1.0 - std::cos(x)) / y;
+  #pragma GCC unroll 6
+  for (int m = 1; m <= 6; ++m) g[m + 2] = (kInverseFactorial[m] - g[m]) / y;
+}
+
+// helix_hessian::CoefficientsOf for a fixed m, inlined (the same products in the same order).
+template <int m>
+inline helix_hessian::Coefficients CoefficientsOf(double l, const double g[9]) {
+  auto d = [&](int k) { return k * g[k + 2] - g[k + 1]; };
+  double lp[m + 6];
+  lp[0] = 1.0;
+  #pragma GCC unroll 8
+  for (int k = 1; k < m + 6; ++k) lp[k] = lp[k - 1] * l;
+  helix_hessian::Coefficients c;
+  c.a1 = lp[m] * g[m];
+  c.a2 = lp[m + 1] * g[m + 1];
+  c.b1 = lp[m + 2] * d(m);
+  c.b2 = lp[m + 3] * d(m + 1);
+  c.c1 = lp[m + 4] * (m * d(m + 2) - d(m + 1));
+  c.c2 = lp[m + 5] * ((m + 1) * d(m + 3) - d(m + 2));
+  return c;
 }
 
 }  // namespace
@@ -75,32 +363,44 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
   for (int i = 0; i < n; ++i) {
     const size_t si = static_cast<size_t>(i);
     const double l = model.segment_lengths[si];
-    const Vec3 omega = curvatures.segment<3>(3 * i);
-    const double norm = omega.norm();
+    const Vec3 o = curvatures.segment<3>(3 * i);
+    const double norm = o.norm();
     kin->frames[si] = q;
     kin->starts[si] = r;
-    const HelixSegment segment = EvaluateHelixSegment(omega, l);
-    kin->segments[si] = segment;
+    HelixSegment& segment = kin->segments[si];
+    HelixSegmentOf(o, l, &segment);
     kin->first_sample[si] = static_cast<int>(si * points);
-    // W and W^2 = Omega Omega^T - |Omega|^2 I, once per segment.
-    const Mat3 w = Hat(omega);
-    Mat3 w2 = omega * omega.transpose();
-    w2.diagonal().array() -= omega.squaredNorm();
+    // W^2 = Omega Omega^T - |Omega|^2 I and W^2 e3 (helix.h), once per segment.
+    const double squared_norm = o.squaredNorm();
+    const double w2x = o.z() * o.x(), w2y = o.z() * o.y(), w2z = -(o.x() * o.x()) - o.y() * o.y();
     for (size_t j = 0; j < points; ++j) {
       Sample& s = kin->samples[si * points + j];
       s.segment = i;
       s.u = rule.nodes[j] * l;
       s.weight = rule.weights[j] * l;
-      s.functions = EvaluateHelixFunctions(norm * s.u);
-      const Vec3 h = HelixChordFromFunctions(omega, s.u, s.functions);
+      HelixFunctionsOf(norm * s.u, &s.functions);
+      const double u = s.u, g1 = s.functions.g[1], g2 = s.functions.g[2], g3 = s.functions.g[3];
+      // The partial chord h(u) = u e3 + u^2 G2 W e3 + u^3 G3 W^2 e3 (HelixChordFromFunctions).
+      const double c2 = u * u * g2, c3 = u * u * u * g3;
+      const Vec3 h(c2 * o.y() + c3 * w2x, c2 * -o.x() + c3 * w2y, u + c3 * w2z);
+      s.partial_chord = h;
       s.y = r + q * h;
-      // R(u) = I + u G1 W + u^2 G2 W^2 (helix.h, Rodrigues).
-      const Mat3 rotation = Mat3::Identity() + (s.u * s.functions.g[1]) * w +
-                            (s.u * s.u * s.functions.g[2]) * w2;
-      s.frame = q * rotation;
+      // R(u) = I + u G1 W + u^2 G2 W^2 (helix.h, Rodrigues), entry by entry.
+      const double b1 = u * g1;
+      Mat3 rotation;
+      rotation(0, 0) = 1.0 + c2 * (o.x() * o.x() - squared_norm);
+      rotation(1, 1) = 1.0 + c2 * (o.y() * o.y() - squared_norm);
+      rotation(2, 2) = 1.0 + c2 * (o.z() * o.z() - squared_norm);
+      rotation(0, 1) = b1 * -o.z() + c2 * (o.x() * o.y());
+      rotation(1, 0) = b1 * o.z() + c2 * (o.y() * o.x());
+      rotation(0, 2) = b1 * o.y() + c2 * (o.x() * o.z());
+      rotation(2, 0) = b1 * -o.y() + c2 * (o.z() * o.x());
+      rotation(1, 2) = b1 * -o.x() + c2 * (o.y() * o.z());
+      rotation(2, 1) = b1 * o.x() + c2 * (o.z() * o.y());
+      s.frame = Mul(q, rotation);
     }
     r += q * segment.chord;
-    q = q * segment.rotation;
+    q = Mul(q, segment.rotation);
   }
   kin->first_sample[static_cast<size_t>(n)] = static_cast<int>(static_cast<size_t>(n) * points);
   kin->jacobians = false;
@@ -109,7 +409,6 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
 
 void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* kin) {
   if (kin->jacobians) return;
-  using helix_hessian::CoefficientsOf;
   const int n = model.NumSegments();
   kin->twist.resize(static_cast<size_t>(n));
   kin->rotation_coefficients.resize(static_cast<size_t>(n));
@@ -117,33 +416,39 @@ void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* 
   for (int i = 0; i < n; ++i) {
     const size_t si = static_cast<size_t>(i);
     const double l = model.segment_lengths[si];
-    const Vec3 omega = curvatures.segment<3>(3 * i);
-    const double norm = omega.norm();
+    const Vec3 o = curvatures.segment<3>(3 * i);
+    const double norm = o.norm();
+    const double squared_norm = o.squaredNorm();
     const Mat3& q = kin->frames[si];
     const HelixSegment& segment = kin->segments[si];
     // The coefficients of the second derivatives (helix_hessian.h): only the Newton matrix's
     // Jacobians and force curvature use them, so they are not part of ComputeKinematics.
     double g[9];
-    helix_hessian::HelixFunctions8(l * norm, g);
-    kin->rotation_coefficients[si] = CoefficientsOf(1, l, g);
-    kin->chord_coefficients[si] = CoefficientsOf(2, l, g);
+    HelixFunctions8(l * norm, g);
+    kin->rotation_coefficients[si] = CoefficientsOf<1>(l, g);
+    kin->chord_coefficients[si] = CoefficientsOf<2>(l, g);
     // S_i: a change dOmega of segment i turns everything past its end by omega = Q_i A(l) dOmega
     // and moves its end by Q_i dp; a point y past it moves by omega x (y - r_(i+1)) + Q_i dp =
     // omega x y + v with v = Q_i dp + r_(i+1) x omega (strand_hessian.cpp, the same twist).
     // r_(i+1) is the segment's start (its first sample minus its partial chord) plus Q_i p.
     const Vec3 r_next = kin->starts[si] + q * segment.chord;
-    Mat63 twist;
-    twist.topRows<3>() = q * RotationJacobian(omega, l, segment.functions);
-    twist.bottomRows<3>() = q * helix_hessian::ChordDerivative(omega, kin->chord_coefficients[si]) +
-                            Hat(r_next) * twist.topRows<3>();
-    kin->twist[si] = twist;
+    const Mat3 top = Mul(q, RotationJacobian(o, squared_norm, l, segment.functions));
+    const Mat3 bottom = Mul(q, ChordJacobian(o, kin->chord_coefficients[si]));
+    const Mat3 turn = CrossColumns(r_next, top);
+    Mat63& twist = kin->twist[si];
+    twist.topRows<3>() = top;
+    #pragma GCC unroll 3
+    for (int c = 0; c < 3; ++c) {
+      #pragma GCC unroll 3
+      for (int rr = 0; rr < 3; ++rr) twist(3 + rr, c) = bottom(rr, c) + turn(rr, c);
+    }
     for (int k = kin->first_sample[si]; k < kin->first_sample[si + 1]; ++k) {
       Sample& s = kin->samples[static_cast<size_t>(k)];
       double gu[9];
-      helix_hessian::HelixFunctions8(norm * s.u, gu);
-      s.chord = CoefficientsOf(2, s.u, gu);
-      s.angular = q * RotationJacobian(omega, s.u, s.functions);
-      s.linear = q * helix_hessian::ChordDerivative(omega, s.chord);  // dh(u)/dOmega
+      HelixFunctions8(norm * s.u, gu);
+      s.chord = CoefficientsOf<2>(s.u, gu);
+      s.angular = Mul(q, RotationJacobian(o, squared_norm, s.u, s.functions));
+      s.linear = Mul(q, ChordJacobian(o, s.chord));  // dh(u)/dOmega
     }
   }
   kin->jacobians = true;
@@ -151,9 +456,8 @@ void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* 
 
 Mat3 SectionInertia(const StrandModel& model, const Sample& sample, bool rotational_inertia) {
   if (!rotational_inertia) return Mat3::Zero();
-  const double i1 = model.section.I1(), i2 = model.section.I2();
-  const Eigen::DiagonalMatrix<double, 3> local(i1, i2, i1 + i2);
-  return (model.material.density * sample.weight) * (sample.frame * local * sample.frame.transpose());
+  return FrameInertia(sample.frame, model.material.density * sample.weight, model.section.I1(),
+                      model.section.I2());
 }
 
 void AssembleMetric(const StrandModel& model, const DynamicsOptions& options,
@@ -165,35 +469,87 @@ void AssembleMetric(const StrandModel& model, const DynamicsOptions& options,
   metric->load.resize(static_cast<size_t>(n));
   metric->translational = true;
   const double line_density = model.material.density * model.section.Area();
+  const double i1 = model.section.I1(), i2 = model.section.I2();
   // Reverse sweep: I accumulates the spatial inertia sum_s P_s^T W_s P_s of the samples past the
   // current segment, P_s = [[I, 0], [-[y_s]x, I]] mapping a twist (omega, v) to the sample's
-  // (angular, linear) velocity (omega, omega x y_s + v).
-  Mat6 inertia = Mat6::Zero();
+  // (angular, linear) velocity (omega, omega x y_s + v). With the sample's
+  // P^T W P = [[Theta - a [y]x^2, a [y]x], [-a [y]x, a I]], I = [[J, [c]x], [-[c]x, m I]] with
+  // J = sum (Theta - a [y]x^2), c = sum a y and m = sum a: those are all that is kept, and
+  // I S = [J S_top + c x S_bottom; -c x S_top + m S_bottom] is formed without the zeros.
+  Mat3 inertia_j = Mat3::Zero();
+  Vec3 inertia_c = Vec3::Zero();
+  double inertia_m = 0.0;
   for (int i = n - 1; i >= 0; --i) {
     const size_t si = static_cast<size_t>(i);
     const Mat63& twist = kin.twist[si];
-    Mat63 load = inertia * twist;
-    Mat3 diagonal = twist.transpose() * load;
-    Mat6 own = Mat6::Zero();
+    // load = I S, each sum in the order of the 6x6 by 6x3 product (left to right, zeros dropped).
+    Mat63& load = metric->load[si];
+    const double cx = inertia_c.x(), cy = inertia_c.y(), cz = inertia_c.z();
+    #pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j) {
+      const double t0 = twist(0, j), t1 = twist(1, j), t2 = twist(2, j);
+      const double v0 = twist(3, j), v1 = twist(4, j), v2 = twist(5, j);
+      load(0, j) = (((inertia_j(0, 0) * t0 + inertia_j(0, 1) * t1) + inertia_j(0, 2) * t2) +
+                    -cz * v1) + cy * v2;
+      load(1, j) = (((inertia_j(1, 0) * t0 + inertia_j(1, 1) * t1) + inertia_j(1, 2) * t2) +
+                    cz * v0) + -cx * v2;
+      load(2, j) = (((inertia_j(2, 0) * t0 + inertia_j(2, 1) * t1) + inertia_j(2, 2) * t2) +
+                    -cy * v0) + cx * v1;
+      load(3, j) = (cz * t1 + -cy * t2) + inertia_m * v0;
+      load(4, j) = (-cz * t0 + cx * t2) + inertia_m * v1;
+      load(5, j) = (cy * t0 + -cx * t1) + inertia_m * v2;
+    }
+    // S^T I S, the sums as Eigen's 3x6 by 6x3 product: (p0 + (p2 + p4)) + (p1 + (p3 + p5)).
+    Mat3 diagonal;
+    #pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j) {
+      #pragma GCC unroll 3
+      for (int r = 0; r < 3; ++r) {
+        const double p0 = twist(0, r) * load(0, j), p1 = twist(1, r) * load(1, j);
+        const double p2 = twist(2, r) * load(2, j), p3 = twist(3, r) * load(3, j);
+        const double p4 = twist(4, r) * load(4, j), p5 = twist(5, r) * load(5, j);
+        diagonal(r, j) = (p0 + (p2 + p4)) + (p1 + (p3 + p5));
+      }
+    }
+    Mat3 own_j = Mat3::Zero();
+    Vec3 own_c = Vec3::Zero();
+    double own_m = 0.0;
     for (int k = kin.first_sample[si]; k < kin.first_sample[si + 1]; ++k) {
       const Sample& s = kin.samples[static_cast<size_t>(k)];
       const double a = mass_scale * line_density * s.weight + drag_scale * options.air_drag * s.weight;
-      const Mat3 theta = mass_scale * SectionInertia(model, s, options.rotational_inertia);
-      const Mat3 yx = Hat(s.y);
-      // P^T W P = [[Theta - a [y]x^2, a [y]x], [-a [y]x, a I]].
-      own.topLeftCorner<3, 3>() += theta - a * yx * yx;
-      own.topRightCorner<3, 3>() += a * yx;
-      own.bottomLeftCorner<3, 3>() -= a * yx;
-      own.bottomRightCorner<3, 3>().diagonal().array() += a;
+      Mat3 theta = Mat3::Zero();
+      if (options.rotational_inertia) {
+        theta = FrameInertia(s.frame, model.material.density * s.weight, i1, i2);
+        theta = mass_scale * theta;
+      }
+      const Vec3 ay = a * s.y;  // a [y]x = [a y]x
+      own_j += theta - HatProduct(ay, s.y);
+      own_c += ay;
+      own_m += a;
       // P^T W K with K = [angular; linear]: [Theta K_a + a [y]x K_l; a K_l].
-      load.topRows<3>() += theta * s.angular + a * yx * s.linear;
-      load.bottomRows<3>() += a * s.linear;
+      const Mat3 theta_angular = Mul(theta, s.angular);
+      const Mat3 y_linear = CrossColumns(ay, s.linear);
+      const Mat3 a_linear = a * s.linear;
+      #pragma GCC unroll 3
+      for (int j = 0; j < 3; ++j) {
+        #pragma GCC unroll 3
+        for (int r = 0; r < 3; ++r) {
+          load(r, j) += theta_angular(r, j) + y_linear(r, j);
+          load(3 + r, j) += a_linear(r, j);
+        }
+      }
       // K^T W K.
-      diagonal += s.angular.transpose() * theta * s.angular + a * s.linear.transpose() * s.linear;
+      diagonal += Mul(TransposeMul(s.angular, theta), s.angular) + TransposeMul(a_linear, s.linear);
     }
-    metric->load[si] = load;
-    metric->diagonal[si] = 0.5 * (diagonal + diagonal.transpose());
-    inertia += own;
+    Mat3& symmetric = metric->diagonal[si];
+    #pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j) {
+      #pragma GCC unroll 3
+      for (int r = 0; r < 3; ++r) symmetric(r, j) = 0.5 * (diagonal(r, j) + diagonal(j, r));
+    }
+    inertia_j += own_j;
+    inertia_c += own_c;
+    inertia_m += own_m;
   }
 }
 
@@ -271,17 +627,19 @@ void AddForceCurvature(const StrandModel& model, const VecX& curvatures, const K
     // F . d^2 y / dq_a dq_b = omega_a . (dy/dq_b x F), with dy/dq_b = -[y]x S_top + S_bottom past
     // b and the own Jacobian inside b: B_top = sum [F]x [y]x S_top - [f_sum]x S_bottom
     // - sum_(s in b) [F_s]x dy_s/dOmega_b.
-    Mat3 load_top = a_f * twist.topRows<3>() - Hat(f_sum) * twist.bottomRows<3>();
+    const Mat3 top = twist.topRows<3>(), bottom = twist.bottomRows<3>();
+    Mat3 load_top = Mul(a_f, top) - CrossColumns(f_sum, bottom);
     const int first = kin.first_sample[sb], last = kin.first_sample[sb + 1];
     for (int k = first; k < last; ++k) {
-      load_top -= Hat(forces[static_cast<size_t>(k)]) * kin.samples[static_cast<size_t>(k)].linear;
+      load_top -= CrossColumns(forces[static_cast<size_t>(k)],
+                               kin.samples[static_cast<size_t>(k)].linear);
     }
     matrix->load[sb].topRows<3>() += load_top;
     // Diagonal: the Jacobian in Omega_b of segment b's step of the reverse sweep, adjoints fixed
     // (HelixSegmentVjp with dE/dR = Q_b^T q_bar, dE/dp = Q_b^T r_bar and HelixChordVjp of each
     // sample's force), in closed form as in the statics' exact Hessian (helix_hessian.h).
-    helix_hessian::OwnHessianSum own(omega);
-    own.AddMatrix(kin.rotation_coefficients[sb], qt * q_bar);
+    OwnHessian own(omega);
+    own.AddMatrix(kin.rotation_coefficients[sb], Mul(qt, q_bar));
     own.AddChord(kin.chord_coefficients[sb], qt * r_bar);
     for (int k = first; k < last; ++k) {
       own.AddChord(kin.samples[static_cast<size_t>(k)].chord, qt * forces[static_cast<size_t>(k)]);
@@ -290,14 +648,14 @@ void AddForceCurvature(const StrandModel& model, const VecX& curvatures, const K
     matrix->diagonal[sb] += 0.5 * (diagonal + diagonal.transpose());
     // Advance the sums and adjoints past segment b's start.
     const HelixSegment& segment = kin.segments[sb];
-    Mat3 q_bar_b = q_bar * segment.rotation.transpose() + r_bar * segment.chord.transpose();
+    Mat3 q_bar_b = Mul(q_bar, segment.rotation.transpose()) + r_bar * segment.chord.transpose();
     for (int k = first; k < last; ++k) {
       const Sample& s = kin.samples[static_cast<size_t>(k)];
       const Vec3& f = forces[static_cast<size_t>(k)];
-      q_bar_b += f * HelixChordFromFunctions(omega, s.u, s.functions).transpose();
+      q_bar_b += f * s.partial_chord.transpose();
       r_bar += f;
       f_sum += f;
-      a_f += Hat(f) * Hat(s.y);
+      a_f += HatProduct(f, s.y);
     }
     q_bar = q_bar_b;
   }

@@ -24,10 +24,14 @@ GaussRule GaussLegendre01(int points);
 
 /// One mass sample: a Gauss point of a segment.
 struct Sample {
+  // Not value-initialized: ComputeKinematics writes every field (the Jacobians with jacobians), so
+  // a vector of samples is not zeroed when it grows.
+  Sample() {}
   int segment = 0;
   double u = 0.0;       ///< arc length inside the segment (m)
   double weight = 0.0;  ///< quadrature weight w (m): l_i times the rule's weight
   Vec3 y;               ///< position relative to the root, r(s) - r(0) (m)
+  Vec3 partial_chord;   ///< h(u), the chord from the segment's start in its start frame (m)
   Mat3 frame;           ///< material frame Q(s) = Q_i R(u)
   Mat3 angular;         ///< d omega / d Omega_i of the sample's frame (world, m); with jacobians
   Mat3 linear;          ///< d y / d Omega_i (world, m^2); with jacobians
@@ -42,7 +46,11 @@ struct Kinematics {
   std::vector<Mat63> twist;         ///< S_i, full (rows 0-2 rotation, 3-5 root-point velocity)
   std::vector<Mat3> frames;         ///< Q_i at segment starts
   std::vector<Vec3> starts;         ///< r_i - r(0) at segment starts (m)
-  std::vector<HelixSegment> segments;
+  /// The segments' closed forms (HelixSegment, not value-initialized either: all written).
+  struct Segment : HelixSegment {
+    Segment() {}
+  };
+  std::vector<Segment> segments;
   std::vector<Sample> samples;      ///< segment by segment, root to tip
   std::vector<int> first_sample;    ///< index of segment i's first sample; size n + 1
   /// Coefficients of A_1 (rotation) and A_2 (chord) of each whole segment (helix_hessian.h);
