@@ -30,6 +30,21 @@ struct TaylorTable {
 };
 const TaylorTable kTaylor;
 
+// The Taylor series of G5 and G6 by Horner in y with kTerms terms: the loop of
+// EvaluateHelixFunctions with a constant trip count (unrolled) and the two chains interleaved;
+// the same operations in the same order, so the same bits.
+template <int kTerms>
+inline void TaylorG5G6(double y, double* g5, double* g6) {
+  double s5 = kTaylor.c[5][kTerms - 1];
+  double s6 = kTaylor.c[6][kTerms - 1];
+  for (int k = kTerms - 2; k >= 0; --k) {
+    s5 = s5 * y + kTaylor.c[5][k];
+    s6 = s6 * y + kTaylor.c[6][k];
+  }
+  *g5 = s5;
+  *g6 = s6;
+}
+
 }  // namespace
 
 HelixFunctions EvaluateHelixFunctions(double x) {
@@ -40,11 +55,14 @@ HelixFunctions EvaluateHelixFunctions(double x) {
     // Taylor series of G5 and G6 only (Horner in y = x^2, truncated where the next term is below
     // 1e-17 relative), then the upward recurrence G_m = 1/m! - x^2 G_(m+2), which only adds
     // (x^2 G_(m+2) < 1/m! here) and so keeps full precision while costing one FMA per function.
-    const int terms = y < 0.0625 ? 6 : y < 0.25 ? 7 : y < 1.0 ? 9 : kTaylorTerms;
-    for (int m = 5; m <= 6; ++m) {
-      double sum = kTaylor.c[m][terms - 1];
-      for (int k = terms - 2; k >= 0; --k) sum = sum * y + kTaylor.c[m][k];
-      h.g[m] = sum;
+    if (y < 0.0625) {
+      TaylorG5G6<6>(y, &h.g[5], &h.g[6]);
+    } else if (y < 0.25) {
+      TaylorG5G6<7>(y, &h.g[5], &h.g[6]);
+    } else if (y < 1.0) {
+      TaylorG5G6<9>(y, &h.g[5], &h.g[6]);
+    } else {
+      TaylorG5G6<kTaylorTerms>(y, &h.g[5], &h.g[6]);
     }
     h.g[4] = 1.0 / 24.0 - y * h.g[6];
     h.g[3] = 1.0 / 6.0 - y * h.g[5];
