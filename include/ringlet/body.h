@@ -256,6 +256,11 @@ class Body final : public Obstacle {
   /// the two distances are within k.
   double SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian) const override;
 
+  /// 1 without a distance grid (a minimum, or smooth minimum, of 1-Lipschitz distances); 1.75
+  /// with one: each partial derivative of the grid's B-spline is a convex combination of node
+  /// differences over h, at most 1 up to the nodes' float rounding, so |gradient| <= sqrt(3).
+  double LipschitzBound() const override { return grid_ ? 1.75 : 1.0; }
+
   /// Box around all the components (m); empty for an empty body.
   const Box3& Bounds() const { return bounds_; }
 

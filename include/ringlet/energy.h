@@ -60,7 +60,9 @@ double GravityEnergy(const StrandModel& model, const VecX& curvatures, VecX* gra
 /// adds F to the adjoint of r_i, F h^T to that of Q_i and the derivative of the partial chord
 /// h(u) = HelixChord(Omega_i, u) to segment i. Samples of a segment are skipped when the segment
 /// is certainly clear: every point of it lies within l_i/2 of one of its ends and d is
-/// 1-Lipschitz, so min(d(r_i), d(r_(i+1))) - l_i/2 >= clearance rules contact out.
+/// 1-Lipschitz, so min(d(r_i), d(r_(i+1))) - l_i/2 >= clearance rules contact out. Far from the
+/// obstacle even those two queries are skipped where Obstacle::LipschitzBound proves the test's
+/// outcome (docs/body.md, "Contact broad phase"): the same samples, the same bits.
 double ContactEnergy(const StrandModel& model, const VecX& curvatures, VecX* gradient,
                      LoadWorkspace* workspace);
 

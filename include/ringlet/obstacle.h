@@ -1,6 +1,8 @@
 // Rigid obstacles a strand may touch, described by a signed distance (paper, section 3.1).
 #pragma once
 
+#include <limits>
+
 #include "ringlet/math.h"
 
 namespace ringlet {
@@ -25,6 +27,12 @@ class Obstacle {
   /// with the exact Hessian.
   virtual double SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian) const;
 
+  /// A bound L on how fast SignedDistance (as computed) can change, |d(x) - d(y)| <= L |x - y|,
+  /// or +infinity when unknown (the default). With a finite L the contact broad phase
+  /// (ContactEnergy, ComputeStrandHessian) skips the distance queries of segments that the bound
+  /// alone proves clear of the obstacle (docs/body.md, "Broad phase"); the results do not change.
+  /// Overriding it with a value below the true constant would skip contacts.
+  virtual double LipschitzBound() const { return std::numeric_limits<double>::infinity(); }
   /// Step of the default SignedDistanceHessian (m).
   static constexpr double kDistanceHessianStep = 1e-7;
 };

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cassert>
+#include <optional>
+
+#include "rod/contact_broad_phase.h"
 
 namespace ringlet {
 
@@ -50,7 +53,11 @@ struct LoadSweep {
     Mat3 q = model.root_frame;
     Vec3 r = Vec3::Zero();
     double eg = 0.0, ec = 0.0;
-    double d_start = obstacle ? obstacle->SignedDistance(model.root_position, nullptr) : 0.0;
+    std::optional<internal::ContactBroadPhase> broad_phase;
+    if (obstacle) {
+      broad_phase.emplace(*obstacle, model.root_position,
+                          model.root_position.cwiseAbs().maxCoeff() + model.Length());
+    }
     for (int i = 0; i < n; ++i) {
       const double l = model.segment_lengths[i];
       const Vec3 omega = curvatures.segment<3>(3 * i);
@@ -60,23 +67,20 @@ struct LoadSweep {
       ws->starts_[i] = r;
       eg -= f.dot(l * r + q * s.moment);
       const Vec3 r_next = r + q * s.chord;
-      if (obstacle) {
-        const double d_end = obstacle->SignedDistance(model.root_position + r_next, nullptr);
-        if (std::min(d_start, d_end) - 0.5 * l < contact.SegmentClearance(i)) {
-          const double weight = l / m;  // samples at (j + 1) l / m, weight l / m
-          for (int j = 0; j < m; ++j) {
-            const double u = (j + 1) * weight;
-            const HelixFunctions functions = EvaluateHelixFunctions(omega.norm() * u);
-            const Vec3 h = HelixChordFromFunctions(omega, u, functions);
-            Vec3 normal;
-            const double d = obstacle->SignedDistance(model.root_position + r + q * h, &normal);
-            const double x = contact.SampleClearance(i, j) - d;  // penetration of the layer
-            if (x <= 0.0) continue;
-            ec += 0.5 * weight * k * x * x;
-            ws->contacts_.push_back({i, u, h, -(weight * k * x) * normal, functions});
-          }
+      if (obstacle && broad_phase->Near(r, r_next, l, contact.SegmentClearance(i))) {
+        const double weight = l / m;  // samples at (j + 1) l / m, weight l / m
+        const double norm = omega.norm();
+        for (int j = 0; j < m; ++j) {
+          const double u = (j + 1) * weight;
+          const HelixFunctions functions = EvaluateHelixFunctions(norm * u);
+          const Vec3 h = HelixChordFromFunctions(omega, u, functions);
+          Vec3 normal;
+          const double d = obstacle->SignedDistance(model.root_position + r + q * h, &normal);
+          const double x = contact.SampleClearance(i, j) - d;  // penetration of the layer
+          if (x <= 0.0) continue;
+          ec += 0.5 * weight * k * x * x;
+          ws->contacts_.push_back({i, u, h, -(weight * k * x) * normal, functions});
         }
-        d_start = d_end;
       }
       r = r_next;
       q = q * s.rotation;

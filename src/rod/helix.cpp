@@ -30,6 +30,21 @@ struct TaylorTable {
 };
 const TaylorTable kTaylor;
 
+// The Taylor series of G5 and G6 by Horner in y with kTerms terms: the loop of
+// EvaluateHelixFunctions with a constant trip count (unrolled) and the two chains interleaved;
+// the same operations in the same order, so the same bits.
+template <int kTerms>
+inline void TaylorG5G6(double y, double* g5, double* g6) {
+  double s5 = kTaylor.c[5][kTerms - 1];
+  double s6 = kTaylor.c[6][kTerms - 1];
+  for (int k = kTerms - 2; k >= 0; --k) {
+    s5 = s5 * y + kTaylor.c[5][k];
+    s6 = s6 * y + kTaylor.c[6][k];
+  }
+  *g5 = s5;
+  *g6 = s6;
+}
+
 }  // namespace
 
 HelixFunctions EvaluateHelixFunctions(double x) {
@@ -40,11 +55,14 @@ HelixFunctions EvaluateHelixFunctions(double x) {
     // Taylor series of G5 and G6 only (Horner in y = x^2, truncated where the next term is below
     // 1e-17 relative), then the upward recurrence G_m = 1/m! - x^2 G_(m+2), which only adds
     // (x^2 G_(m+2) < 1/m! here) and so keeps full precision while costing one FMA per function.
-    const int terms = y < 0.0625 ? 6 : y < 0.25 ? 7 : y < 1.0 ? 9 : kTaylorTerms;
-    for (int m = 5; m <= 6; ++m) {
-      double sum = kTaylor.c[m][terms - 1];
-      for (int k = terms - 2; k >= 0; --k) sum = sum * y + kTaylor.c[m][k];
-      h.g[m] = sum;
+    if (y < 0.0625) {
+      TaylorG5G6<6>(y, &h.g[5], &h.g[6]);
+    } else if (y < 0.25) {
+      TaylorG5G6<7>(y, &h.g[5], &h.g[6]);
+    } else if (y < 1.0) {
+      TaylorG5G6<9>(y, &h.g[5], &h.g[6]);
+    } else {
+      TaylorG5G6<kTaylorTerms>(y, &h.g[5], &h.g[6]);
     }
     h.g[4] = 1.0 / 24.0 - y * h.g[6];
     h.g[3] = 1.0 / 6.0 - y * h.g[5];
@@ -86,34 +104,43 @@ Vec3 HelixSegmentVjp(const Vec3& omega, double length, const HelixFunctions& h,
   //   dE/dOmega = a1 Vee(X) + a2 Vee(X W^T + W^T X) + (da1 <X, W> + da2 <X, W^2>) Omega,
   // using d[e_j]x-terms <X, [e_j]x> = Vee(X)_j and d(l^m G_m)/dOmega = l^(m+2) (G_m'/x) Omega,
   // G_m'/x = m G_(m+2) - G_(m+1) (helix.h).
+  // X is dE/dR for R and d e3^T for p and c (d = dE/dp, dE/dc): only their third columns are
+  // non-zero, and the sums below skip the zeros, in the order of the full 3 x 3 sums; each starts
+  // from +0 as those do, so that even the signs of exact zeros are the same (same bits).
   const double l = length;
   const Mat3 w = Hat(omega);
   const Mat3 w2 = w * w;
-  Mat3 x_mats[3];
-  x_mats[0] = d_rotation;
-  x_mats[1].setZero();
-  x_mats[1].col(2) = d_chord;
-  x_mats[2].setZero();
-  x_mats[2].col(2) = d_moment;
-
   double lp[8];  // powers of l
   lp[0] = 1.0;
   for (int k = 1; k < 8; ++k) lp[k] = lp[k - 1] * l;
-
-  Mat3 y1 = Mat3::Zero();
-  Mat3 y2 = Mat3::Zero();
-  double s = 0.0;
+  double a1[3], a2[3], da1[3], da2[3];
   for (int j = 0; j < 3; ++j) {
     const int m = j + 1;
-    const double a1 = lp[m] * h.g[m];
-    const double a2 = lp[m + 1] * h.g[m + 1];
-    const double da1 = lp[m + 2] * (m * h.g[m + 2] - h.g[m + 1]);
-    const double da2 = lp[m + 3] * ((m + 1) * h.g[m + 3] - h.g[m + 2]);
-    const Mat3& x = x_mats[j];
-    y1 += a1 * x;
-    y2 += a2 * x;
-    s += da1 * (x.cwiseProduct(w)).sum() + da2 * (x.cwiseProduct(w2)).sum();
+    a1[j] = lp[m] * h.g[m];
+    a2[j] = lp[m + 1] * h.g[m + 1];
+    da1[j] = lp[m + 2] * (m * h.g[m + 2] - h.g[m + 1]);
+    da2[j] = lp[m + 3] * ((m + 1) * h.g[m + 3] - h.g[m + 2]);
   }
+  // Y1 = sum a1_j X_j, Y2 = sum a2_j X_j: columns 0 and 1 from dE/dR alone.
+  Mat3 y1, y2;
+  const Eigen::Array<double, 3, 2> zero2 = Eigen::Array<double, 3, 2>::Zero();
+  const Eigen::Array3d zero3 = Eigen::Array3d::Zero();
+  y1.leftCols<2>() = (zero2 + a1[0] * d_rotation.leftCols<2>().array()).matrix();
+  y2.leftCols<2>() = (zero2 + a2[0] * d_rotation.leftCols<2>().array()).matrix();
+  y1.col(2) = (((zero3 + a1[0] * d_rotation.col(2).array()) + a1[1] * d_chord.array()) +
+               a1[2] * d_moment.array())
+                  .matrix();
+  y2.col(2) = (((zero3 + a2[0] * d_rotation.col(2).array()) + a2[1] * d_chord.array()) +
+               a2[2] * d_moment.array())
+                  .matrix();
+  // <d e3^T, M> = d . M e3.
+  const auto third = [](const Vec3& d, const Mat3& m) {
+    return ((0.0 + d(0) * m(0, 2)) + d(1) * m(1, 2)) + d(2) * m(2, 2);
+  };
+  double s = 0.0;
+  s += da1[0] * (d_rotation.cwiseProduct(w)).sum() + da2[0] * (d_rotation.cwiseProduct(w2)).sum();
+  s += da1[1] * third(d_chord, w) + da2[1] * third(d_chord, w2);
+  s += da1[2] * third(d_moment, w) + da2[2] * third(d_moment, w2);
   // W^T = -W.
   return Vee(y1) - Vee(y2 * w + w * y2) + s * omega;
 }

@@ -34,16 +34,33 @@ struct Taylor8Table {
 };
 inline const Taylor8Table kTaylor8;
 
+// The two Horner chains of G7 and G8 with kTerms terms, unrolled and interleaved (the same
+// operations in the same order as one loop per function: the same bits).
+template <int kTerms>
+inline void TaylorG7G8(double y, double g[9]) {
+  double s7 = kTaylor8.c[0][kTerms - 1];
+  double s8 = kTaylor8.c[1][kTerms - 1];
+  for (int k = kTerms - 2; k >= 0; --k) {
+    s7 = s7 * y + kTaylor8.c[0][k];
+    s8 = s8 * y + kTaylor8.c[1][k];
+  }
+  g[7] = s7;
+  g[8] = s8;
+}
+
 inline void HelixFunctions8(double x, double g[9]) {
   const double y = x * x;
   g[0] = 0.0;
   if (std::abs(x) < 2.0) {
     // Fewer terms for small x, as in helix.cpp (the next term below 1e-17 relative).
-    const int terms = y < 0.0625 ? 6 : y < 0.25 ? 7 : y < 1.0 ? 9 : kTaylorTerms8;
-    for (int m = 7; m <= 8; ++m) {
-      double sum = kTaylor8.c[m - 7][terms - 1];
-      for (int k = terms - 2; k >= 0; --k) sum = sum * y + kTaylor8.c[m - 7][k];
-      g[m] = sum;
+    if (y < 0.0625) {
+      TaylorG7G8<6>(y, g);
+    } else if (y < 0.25) {
+      TaylorG7G8<7>(y, g);
+    } else if (y < 1.0) {
+      TaylorG7G8<9>(y, g);
+    } else {
+      TaylorG7G8<kTaylorTerms8>(y, g);
     }
     for (int m = 6; m >= 1; --m) g[m] = kInverseFactorial[m] - y * g[m + 2];
     return;

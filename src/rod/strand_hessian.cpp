@@ -22,9 +22,11 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <optional>
 
 #include "ringlet/helix.h"
 #include "ringlet/obstacle.h"
+#include "rod/contact_broad_phase.h"
 #include "rod/helix_hessian.h"
 
 namespace ringlet {
@@ -95,7 +97,11 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
   // twists S_i and the contact samples.
   Mat3 q = model.root_frame;
   Vec3 r = Vec3::Zero();
-  double d_start = obstacle ? obstacle->SignedDistance(model.root_position, nullptr) : 0.0;
+  std::optional<internal::ContactBroadPhase> broad_phase;
+  if (obstacle) {
+    broad_phase.emplace(*obstacle, model.root_position,
+                        model.root_position.cwiseAbs().maxCoeff() + model.Length());
+  }
   for (int i = 0; i < n; ++i) {
     const double l = model.segment_lengths[static_cast<size_t>(i)];
     const Vec3 omega = curvatures.segment<3>(3 * i);
@@ -136,34 +142,34 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
     }
     hessian->twist[static_cast<size_t>(i)] = twist;
 
-    if (obstacle) {
-      // The samples and the broad phase of ContactEnergy (energy.cpp).
-      const double d_end = obstacle->SignedDistance(model.root_position + r_next, nullptr);
-      if (std::min(d_start, d_end) - 0.5 * l < contact.SegmentClearance(i)) {
-        const double weight = l / m;
-        for (int j = 0; j < m; ++j) {
-          SampleData p;
-          p.segment = i;
-          p.u = (j + 1) * weight;
-          p.h = HelixChordFromFunctions(omega, p.u, EvaluateHelixFunctions(omega.norm() * p.u));
-          double gu[9];
-          HelixFunctions8(omega.norm() * p.u, gu);
-          p.coefficients = CoefficientsOf(2, p.u, gu);
-          p.d_h = ChordDerivative(omega, p.coefficients);
-          p.y = r + q * p.h;
-          Vec3 normal;
-          Mat3 distance_hessian;
-          const double d =
-              obstacle->SignedDistanceHessian(model.root_position + p.y, &normal, &distance_hessian);
-          const double x = contact.SampleClearance(i, j) - d;  // penetration of the layer
-          if (!(x > 0.0)) continue;
-          // phi = 1/2 w k x^2: grad = -w k x n, Hessian = w k (n n^T - x d''(y)).
-          p.force = -(weight * k_contact * x) * normal;
-          p.phi = (weight * k_contact) * (normal * normal.transpose() - x * distance_hessian);
-          samples.push_back(p);
-        }
+    // The samples and the broad phase of ContactEnergy (energy.cpp); a sample's derivatives
+    // only once it is known to carry a force.
+    if (obstacle && broad_phase->Near(r, r_next, l, contact.SegmentClearance(i))) {
+      const double weight = l / m;
+      const double norm = omega.norm();
+      for (int j = 0; j < m; ++j) {
+        const double u = (j + 1) * weight;
+        const Vec3 h = HelixChordFromFunctions(omega, u, EvaluateHelixFunctions(norm * u));
+        const Vec3 y = r + q * h;
+        Vec3 normal;
+        Mat3 distance_hessian;
+        const double d =
+            obstacle->SignedDistanceHessian(model.root_position + y, &normal, &distance_hessian);
+        const double x = contact.SampleClearance(i, j) - d;  // penetration of the layer
+        if (!(x > 0.0)) continue;
+        SampleData& p = samples.emplace_back();
+        p.segment = i;
+        p.u = u;
+        p.h = h;
+        p.y = y;
+        double gu[9];
+        HelixFunctions8(norm * u, gu);
+        p.coefficients = CoefficientsOf(2, u, gu);
+        p.d_h = ChordDerivative(omega, p.coefficients);
+        // phi = 1/2 w k x^2: grad = -w k x n, Hessian = w k (n n^T - x d''(y)).
+        p.force = -(weight * k_contact * x) * normal;
+        p.phi = (weight * k_contact) * (normal * normal.transpose() - x * distance_hessian);
       }
-      d_start = d_end;
     }
     r = r_next;
     q = q * s.rotation;
@@ -212,9 +218,10 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
       own.AddChord(p.coefficients, qt * p.force);
       const Mat3 jacobian = s.frame * p.d_h;  // dy/dOmega_i
       const Mat36 e = PointMotion(p.y);
+      const Mat63 e_phi = e.transpose() * p.phi;  // shared by b and gamma
       d += jacobian.transpose() * p.phi * jacobian;
-      b += e.transpose() * p.phi * jacobian;
-      gamma_own += e.transpose() * p.phi * e;
+      b += e_phi * jacobian;
+      gamma_own += e_phi * e;
       load_top -= CrossColumns(p.force, jacobian);
     }
     d += own.Hessian();
