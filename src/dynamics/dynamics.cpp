@@ -76,6 +76,9 @@ class MovedObstacle final : public Obstacle {
     if (hessian) *hessian = rotation_ * h * rotation_.transpose();
     return d;
   }
+  // A rigid motion keeps distances: the carried body's Lipschitz bound is the body's (the
+  // statics' contact broad phase culls with it, contact_broad_phase.h).
+  double LipschitzBound() const override { return base_->LipschitzBound(); }
 
  private:
   std::shared_ptr<const Obstacle> base_;
