@@ -90,55 +90,11 @@ inline Mat3 FrameInertia(const Mat3& frame, double scale, double i1, double i2) 
   return theta;
 }
 
-// EvaluateHelixFunctions (helix.cpp) with the same operations and the same Taylor coefficients
-// (G5 and G6 from 12 terms of their series below x = 2, then the upward recurrence; the closed
-// forms above), the two Horner sums in one loop and inlined: the samples call it once each.
-struct Taylor56Table {
-  static constexpr int kTerms = 12;
-  double c[2][kTerms];  // c[m - 5][k] = (-1)^k / (2k + m)!, m = 5, 6
-  Taylor56Table() {
-    for (int m = 5; m <= 6; ++m) {
-      for (int k = 0; k < kTerms; ++k) {
-        double factorial = 1.0;
-        for (int j = 2; j <= 2 * k + m; ++j) factorial *= j;
-        c[m - 5][k] = (k % 2 == 0 ? 1.0 : -1.0) / factorial;
-      }
-    }
-  }
-};
-const Taylor56Table kTaylor56;
-
-inline void HelixFunctionsOf(double x, HelixFunctions* h) {
-  h->g[0] = 0.0;
-  const double y = x * x;
-  if (std::abs(x) < 2.0) {
-    const int terms = y < 0.0625 ? 6 : y < 0.25 ? 7 : y < 1.0 ? 9 : Taylor56Table::kTerms;
-    double g5 = kTaylor56.c[0][terms - 1], g6 = kTaylor56.c[1][terms - 1];
-    for (int k = terms - 2; k >= 0; --k) {
-      g5 = g5 * y + kTaylor56.c[0][k];
-      g6 = g6 * y + kTaylor56.c[1][k];
-    }
-    h->g[5] = g5;
-    h->g[6] = g6;
-    h->g[4] = 1.0 / 24.0 - y * g6;
-    h->g[3] = 1.0 / 6.0 - y * g5;
-    h->g[2] = 0.5 - y * h->g[4];
-    h->g[1] = 1.0 - y * h->g[3];
-    return;
-  }
-  h->g[1] = std::sin(x) / x;
-  h->g[2] = (1.0 - std::cos(x)) / y;
-  h->g[3] = (1.0 - h->g[1]) / y;
-  h->g[4] = (0.5 - h->g[2]) / y;
-  h->g[5] = (1.0 / 6.0 - h->g[3]) / y;
-  h->g[6] = (1.0 / 24.0 - h->g[4]) / y;
-}
-
 // EvaluateHelixSegment (helix.h) with the same sums, W^2 by HatProduct (the non-zero terms of
 // W W) instead of a general 3x3 product.
 inline void HelixSegmentOf(const Vec3& o, double l, HelixSegment* s) {
   const HelixFunctions& h = s->functions;
-  HelixFunctionsOf(l * o.norm(), &s->functions);
+  s->functions = EvaluateHelixFunctions(l * o.norm());
   const Mat3 w2 = HatProduct(o, o);
   const double l2 = l * l, l3 = l2 * l, l4 = l3 * l;
   // R = I + l G1 W + l^2 G2 W^2 (Rodrigues).
@@ -161,64 +117,6 @@ inline void HelixSegmentOf(const Vec3& o, double l, HelixSegment* s) {
   s->moment = Vec3(c1 * o.y() + c2 * w2(0, 2), c1 * -o.x() + c2 * w2(1, 2),
                    0.5 * l2 + c2 * w2(2, 2));
 }
-
-// helix_hessian::OwnHessianSum (the same sums in the same order) with the chord terms written
-// out: X = d e3^T has M = (d e3^T + e3 d^T)/2 - d_z I with two zero entries, M (0, 1) and
-// M (1, 0), which are skipped, and the Hessian formed entry by entry.
-class OwnHessian {
- public:
-  explicit OwnHessian(const Vec3& omega) : o_(omega) {}
-
-  void AddMatrix(const helix_hessian::Coefficients& c, const Mat3& x) {
-    const Mat3 m = 0.5 * (x + x.transpose()) - x.trace() * Mat3::Identity();
-    const Vec3 m_omega = m * o_;
-    Add(c, Vee(x), m_omega);
-    m_ += (2.0 * c.a2) * m;
-  }
-  void AddChord(const helix_hessian::Coefficients& c, const Vec3& d) {
-    const double half_x = 0.5 * d.x(), half_y = 0.5 * d.y(), half_z = 0.5 * d.z();
-    const double d_omega = d.dot(o_);
-    const Vec3 m_omega(0.5 * (o_.z() * d.x()) - d.z() * o_.x(),
-                       0.5 * (o_.z() * d.y()) - d.z() * o_.y(),
-                       0.5 * (o_.z() * d.z() + d_omega) - d.z() * o_.z());
-    Add(c, Vec3(-d.y(), d.x(), 0.0), m_omega);
-    const double a = 2.0 * c.a2;
-    m_(0, 0) += a * -d.z();
-    m_(1, 1) += a * -d.z();
-    m_(2, 2) += a * ((half_z + half_z) - d.z());
-    m_(0, 2) += a * half_x;
-    m_(2, 0) += a * half_x;
-    m_(1, 2) += a * half_y;
-    m_(2, 1) += a * half_y;
-  }
-  Mat3 Hessian() const {
-    Mat3 h;
-    #pragma GCC unroll 3
-    for (int j = 0; j < 3; ++j) {
-      #pragma GCC unroll 3
-      for (int i = 0; i < 3; ++i) {
-        h(i, j) = ((o_(i) * t_(j) + t_(i) * o_(j)) + (s_ * o_(i)) * o_(j)) + m_(i, j);
-      }
-    }
-    h.diagonal().array() += diagonal_;
-    return h;
-  }
-
- private:
-  void Add(const helix_hessian::Coefficients& c, const Vec3& v, const Vec3& m_omega) {
-    const double rho = o_.dot(m_omega);
-    const double ov = o_.dot(v);
-    t_ += c.b1 * v + (2.0 * c.b2) * m_omega;
-    s_ += ov * c.c1 + rho * c.c2;
-    diagonal_ += ov * c.b1 + rho * c.b2;
-  }
-
-  Vec3 o_;
-  Vec3 t_ = Vec3::Zero();
-  double s_ = 0.0;
-  Mat3 m_ = Mat3::Zero();
-  double diagonal_ = 0.0;
-};
 
 // Left Jacobian of the rotation exp(u W) in the segment's start frame: dR R^T = [A dOmega]x with
 // A = u I + u^2 G2 W + u^3 G3 W^2 (strand_hessian.cpp, "the rotation's left Jacobian"), with
@@ -260,32 +158,6 @@ inline Mat3 ChordJacobian(const Vec3& o, const helix_hessian::Coefficients& c) {
   d(1, 2) = uy * o.z() + vx;
   d(2, 2) = uz * o.z() + diagonal;
   return d;
-}
-
-// helix_hessian::HelixFunctions8 with the same operations: the two Horner sums of G7 and G8 in
-// one loop and the recurrences unrolled (GCC -O2 keeps the header's loops rolled).
-inline void HelixFunctions8(double x, double g[9]) {
-  using helix_hessian::kInverseFactorial;
-  using helix_hessian::kTaylor8;
-  const double y = x * x;
-  g[0] = 0.0;
-  if (std::abs(x) < 2.0) {
-    const int terms = y < 0.0625 ? 6 : y < 0.25 ? 7 : y < 1.0 ? 9 : helix_hessian::kTaylorTerms8;
-    double g7 = kTaylor8.c[0][terms - 1], g8 = kTaylor8.c[1][terms - 1];
-    for (int k = terms - 2; k >= 0; --k) {
-      g7 = g7 * y + kTaylor8.c[0][k];
-      g8 = g8 * y + kTaylor8.c[1][k];
-    }
-    g[7] = g7;
-    g[8] = g8;
-    #pragma GCC unroll 6
-    for (int m = 6; m >= 1; --m) g[m] = kInverseFactorial[m] - y * g[m + 2];
-    return;
-  }
-  g[1] = std::sin(x) / x;
-  g[2] = (1.0 - std::cos(x)) / y;
-  #pragma GCC unroll 6
-  for (int m = 1; m <= 6; ++m) g[m + 2] = (kInverseFactorial[m] - g[m]) / y;
 }
 
 // helix_hessian::CoefficientsOf for a fixed m, inlined (the same products in the same order).
@@ -378,7 +250,7 @@ void ComputeKinematics(const StrandModel& model, const VecX& curvatures, const G
       s.segment = i;
       s.u = rule.nodes[j] * l;
       s.weight = rule.weights[j] * l;
-      HelixFunctionsOf(norm * s.u, &s.functions);
+      s.functions = EvaluateHelixFunctions(norm * s.u);
       const double u = s.u, g1 = s.functions.g[1], g2 = s.functions.g[2], g3 = s.functions.g[3];
       // The partial chord h(u) = u e3 + u^2 G2 W e3 + u^3 G3 W^2 e3 (HelixChordFromFunctions).
       const double c2 = u * u * g2, c3 = u * u * u * g3;
@@ -424,7 +296,7 @@ void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* 
     // The coefficients of the second derivatives (helix_hessian.h): only the Newton matrix's
     // Jacobians and force curvature use them, so they are not part of ComputeKinematics.
     double g[9];
-    HelixFunctions8(l * norm, g);
+    helix_hessian::HelixFunctions8(l * norm, g);
     kin->rotation_coefficients[si] = CoefficientsOf<1>(l, g);
     kin->chord_coefficients[si] = CoefficientsOf<2>(l, g);
     // S_i: a change dOmega of segment i turns everything past its end by omega = Q_i A(l) dOmega
@@ -445,7 +317,7 @@ void AddJacobians(const StrandModel& model, const VecX& curvatures, Kinematics* 
     for (int k = kin->first_sample[si]; k < kin->first_sample[si + 1]; ++k) {
       Sample& s = kin->samples[static_cast<size_t>(k)];
       double gu[9];
-      HelixFunctions8(norm * s.u, gu);
+      helix_hessian::HelixFunctions8(norm * s.u, gu);
       s.chord = CoefficientsOf<2>(s.u, gu);
       s.angular = Mul(q, RotationJacobian(o, squared_norm, s.u, s.functions));
       s.linear = Mul(q, ChordJacobian(o, s.chord));  // dh(u)/dOmega
@@ -638,7 +510,7 @@ void AddForceCurvature(const StrandModel& model, const VecX& curvatures, const K
     // Diagonal: the Jacobian in Omega_b of segment b's step of the reverse sweep, adjoints fixed
     // (HelixSegmentVjp with dE/dR = Q_b^T q_bar, dE/dp = Q_b^T r_bar and HelixChordVjp of each
     // sample's force), in closed form as in the statics' exact Hessian (helix_hessian.h).
-    OwnHessian own(omega);
+    helix_hessian::OwnHessianSum own(omega);
     own.AddMatrix(kin.rotation_coefficients[sb], Mul(qt, q_bar));
     own.AddChord(kin.chord_coefficients[sb], qt * r_bar);
     for (int k = first; k < last; ++k) {
