@@ -302,5 +302,63 @@ TEST(StrandHessianFactor, AgreesWithDenseCholeskyAndSolves) {
   }
 }
 
+// The energy and gradient of ComputeStrandEnergyAndHessian (the Hessian sweep's adjoints through
+// the segments' derivative matrices) against StrandEnergy::Evaluate (LoadSweep: HelixSegmentVjp
+// and HelixChordVjp, tested against differences of the energy in energy_test.cpp), with and
+// without contact; its Hessian is ComputeStrandHessian's, bit for bit.
+void ExpectEnergyAndGradientAgree(const StrandModel& model, const VecX& q) {
+  StrandEnergy energy(model);
+  VecX reference_gradient;
+  EnergyTerms reference;
+  const double reference_total = energy.Evaluate(q, &reference_gradient, &reference);
+  StrandHessian fused, alone;
+  VecX gradient;
+  EnergyTerms terms;
+  const double total = ComputeStrandEnergyAndHessian(model, q, &fused, &gradient, &terms);
+  ComputeStrandHessian(model, q, &alone);
+  // Relative to the largest of the gradient and its elastic part (at an equilibrium the loads'
+  // part cancels the elastic one: the sum is ~0, its parts are not).
+  VecX elastic_gradient;
+  ElasticEnergy(model, q, &elastic_gradient);
+  const double scale = std::max(reference_gradient.cwiseAbs().maxCoeff(),
+                                elastic_gradient.cwiseAbs().maxCoeff());
+  ASSERT_GT(scale, 0.0);
+  ASSERT_EQ(gradient.size(), reference_gradient.size());
+  EXPECT_LE((gradient - reference_gradient).cwiseAbs().maxCoeff(), 1e-11 * scale);
+  const double size = std::abs(reference.elastic) + std::abs(reference.gravity) +
+                      std::abs(reference.contact);
+  EXPECT_NEAR(terms.elastic, reference.elastic, 1e-13 * size);
+  EXPECT_NEAR(terms.gravity, reference.gravity, 1e-13 * size);
+  EXPECT_NEAR(terms.contact, reference.contact, 1e-13 * size);
+  EXPECT_NEAR(total, reference_total, 1e-13 * size);
+  EXPECT_EQ(terms.total, total);
+  EXPECT_TRUE(fused.Dense() == alone.Dense());
+}
+
+TEST(StrandEnergyAndHessian, EnergyAndGradientAreStrandEnergys) {
+  for (const HessianCase& c : {HessianCase{0.2, 12, 0.6, 80.0, 1e3, 2u},
+                               HessianCase{0.3, 20, 0.3, 1e-4, 1e4, 3u},
+                               HessianCase{0.05, 8, 0.9, 300.0, 1e5, 4u}}) {
+    StrandModel model = MakeStrand(c.length, c.segments, c.eccentricity,
+                                   Vec3(20.0, -5.0, 8.0), RandomRotation(c.seed));
+    model.gravity *= c.gravity_scale;
+    ExpectEnergyAndGradientAgree(model, RandomCurvatures(c.segments, c.amplitude, c.seed + 1));
+  }
+  VecX q;
+  const StrandModel draped =
+      DrapedStrand(std::make_shared<SphereObstacle>(Vec3::Zero(), 0.1), &q);
+  ASSERT_GT(MeasureContact(draped, q).samples_in_contact, 10) << "vacuous: no contact";
+  ExpectEnergyAndGradientAgree(draped, q);
+  // Away from the equilibrium the contact forces do not balance the rest: a gradient of size.
+  ExpectEnergyAndGradientAgree(draped, q + RandomCurvatures(20, 2.0, 9u));
+  std::vector<Sphere> spheres = {{Vec3(0, 0, 0), 0.1, "a"}, {Vec3(0.12, 0, -0.02), 0.08, "b"}};
+  auto blended = std::make_shared<Body>();
+  std::string error;
+  ASSERT_TRUE(Body::Create(spheres, {}, blended.get(), &error, 0.02)) << error;
+  const StrandModel on_body = DrapedStrand(blended, &q);
+  ASSERT_GT(MeasureContact(on_body, q).samples_in_contact, 10);
+  ExpectEnergyAndGradientAgree(on_body, q + RandomCurvatures(20, 2.0, 10u));
+}
+
 }  // namespace
 }  // namespace ringlet

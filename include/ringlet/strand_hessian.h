@@ -53,6 +53,17 @@ struct StrandHessian {
 /// is summed in one forward and one reverse sweep, O(n + samples).
 void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures, StrandHessian* hessian);
 
+struct EnergyTerms;
+
+/// ComputeStrandHessian that also returns StrandEnergy's value (J), its terms and its gradient
+/// (J m, size 3n, written) from the same sweeps: the loads' adjoints of the Hessian's reverse
+/// sweep are the gradient's (the same chain rule as StrandEnergy::Evaluate, through the segments'
+/// derivative matrices instead of HelixSegmentVjp: equal to rounding). One pass over the
+/// segments and one body query per sample instead of two of each where both are needed (the
+/// implicit step's Newton point).
+double ComputeStrandEnergyAndHessian(const StrandModel& model, const VecX& curvatures,
+                                     StrandHessian* hessian, VecX* gradient, EnergyTerms* terms);
+
 /// Block LDL^T factorization of H - shift I from the tip to the root, H - shift I = U D U^T with U
 /// block unit upper triangular, in O(n) using the semiseparable form. Positive definiteness of a
 /// symmetric matrix is equivalent to every pivot block D_k being positive definite (Sylvester's

@@ -322,8 +322,10 @@ class IncrementalPotential {
   }
 
   // Phi(q) and, when gradient is not null, dPhi/dq; kinematics at q are kept for the Newton
-  // matrix.
-  double Evaluate(const VecX& q, VecX* gradient) {
+  // matrix. With `matrix` (and gradient) also the Newton matrix at q (NewtonMatrix), E's value,
+  // gradient and Hessian then from one sweep (ComputeStrandEnergyAndHessian: one helix closed
+  // form and one body query per sample instead of two of each).
+  double Evaluate(const VecX& q, VecX* gradient, StrandHessian* matrix = nullptr) {
     // The gradient goes through the twists and the samples' own Jacobians (kinematics.h), which
     // the Newton matrix at this q then reuses; the value alone needs positions and frames only.
     ComputeKinematics(model_, q, rule_, &kin_, /*jacobians=*/gradient != nullptr);
@@ -360,7 +362,10 @@ class IncrementalPotential {
       const Vec3 change = q.segment<3>(3 * i) - anchor_curvatures_.segment<3>(3 * i);
       dissipation += 0.5 * extra_[static_cast<size_t>(i)] * change.squaredNorm();
     }
-    const double potential = energy_.Evaluate(q, gradient ? &energy_gradient_ : nullptr, &terms_);
+    const double potential =
+        matrix && gradient
+            ? ComputeStrandEnergyAndHessian(model_, q, &hessian_, &energy_gradient_, &terms_)
+            : energy_.Evaluate(q, gradient ? &energy_gradient_ : nullptr, &terms_);
     evaluated_q_ = q;
     evaluated_ = true;
     if (gradient) {
@@ -372,22 +377,29 @@ class IncrementalPotential {
             (q.segment<3>(3 * i) - anchor_curvatures_.segment<3>(3 * i));
       }
     }
+    if (matrix && gradient) AssembleNewtonMatrix(q, matrix);
     return inertia + dissipation + potential;
   }
 
   // The Newton matrix at the q of the last Evaluate (its forces): M/a + c nu-drag (Gauss-Newton)
   // + the curvature of those forces + the exact Hessian of E + c gamma l_i.
   void NewtonMatrix(const VecX& q, StrandHessian* matrix) {
+    ComputeStrandHessian(model_, q, &hessian_);
+    AssembleNewtonMatrix(q, matrix);
+  }
+
+ private:
+  // The Newton matrix from the kinematics and forces of the last Evaluate and hessian_ (E's
+  // Hessian), both at q.
+  void AssembleNewtonMatrix(const VecX& q, StrandHessian* matrix) {
     dynamics::AddJacobians(model_, q, &kin_);
     dynamics::AssembleMetric(model_, options_, kin_, 1.0 / a_, c_, matrix);
-    ComputeStrandHessian(model_, q, &hessian_);
     AddHessian(hessian_, extra_, matrix);
     // The curvature of the inertial and drag forces (the rest of the inertia's exact Hessian;
     // the section's rotational part, of order rho I / (rho S L^2) ~ 1e-7, is left out).
     dynamics::AddForceCurvature(model_, q, kin_, forces_, matrix);
   }
 
- private:
   const StrandModel& model_;
   const DynamicsOptions& options_;
   const GaussRule& rule_;
@@ -554,16 +566,20 @@ bool StrandDynamics::TryStep(double h, int* iterations, int* factorizations, std
   } else {
     q = state_.curvatures + h * state_.rates;  // the explicit predictor
   }
-  double value = phi.Evaluate(q, &gradient);
+  // The first update always needs the Newton matrix at the starting point: built with Phi and
+  // its gradient there.
+  double value = phi.Evaluate(q, &gradient, &w.matrix);
   if (!std::isfinite(value) || !gradient.allFinite()) {
     // The predictor went somewhere unreasonable: start from where the step starts.
     q = state_.curvatures;
-    value = phi.Evaluate(q, &gradient);
+    value = phi.Evaluate(q, &gradient, &w.matrix);
   }
+  bool matrix_at_q = true;  // w.matrix is the Newton matrix at q, not factored yet
   // Builds and factors the Newton matrix at q.
   auto refactor = [&]() {
     ++*factorizations;
-    phi.NewtonMatrix(q, &w.matrix);
+    if (!matrix_at_q) phi.NewtonMatrix(q, &w.matrix);
+    matrix_at_q = false;
     // Positive definite unless the potential's Hessian is too negative for the inertia: then a
     // growing multiple of the identity (Levenberg) until the factorization succeeds.
     double mean_diagonal = 0.0;
@@ -664,10 +680,18 @@ bool StrandDynamics::TryStep(double h, int* iterations, int* factorizations, std
       Accept(w, q, h, bdf2);
       return true;
     }
-    if (inexact) value = phi.Evaluate(q, &gradient);
-    // The next update reuses this factor only after a full step (close enough to the solution
-    // for the chord to converge); a shortened step asks for a fresh Newton matrix.
-    chord = alpha == 1.0;
+    if (inexact) {
+      // The inexact step goes on with Newton's own update at the new point (a chord update
+      // would have to shrink its predecessor below the tolerance, 1e-11 rad, to be kept: the
+      // inexact step's updates are far larger), its matrix built with Phi's gradient.
+      value = phi.Evaluate(q, &gradient, &w.matrix);
+      matrix_at_q = true;
+      chord = false;
+    } else {
+      // The next update reuses this factor only after a full step (close enough to the solution
+      // for the chord to converge); a shortened step asks for a fresh Newton matrix.
+      chord = alpha == 1.0;
+    }
     previous_change = change;
   }
   std::ostringstream out;

@@ -24,6 +24,7 @@
 #include <cmath>
 #include <optional>
 
+#include "ringlet/energy.h"
 #include "ringlet/helix.h"
 #include "ringlet/obstacle.h"
 #include "rod/contact_broad_phase.h"
@@ -75,6 +76,11 @@ Mat36 PointMotion(const Vec3& y) {
 
 void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
                           StrandHessian* hessian) {
+  ComputeStrandEnergyAndHessian(model, curvatures, hessian, nullptr, nullptr);
+}
+
+double ComputeStrandEnergyAndHessian(const StrandModel& model, const VecX& curvatures,
+                                     StrandHessian* hessian, VecX* gradient, EnergyTerms* terms) {
   const int n = model.NumSegments();
   assert(curvatures.size() == 3 * n);
   hessian->diagonal.resize(n);
@@ -97,6 +103,7 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
   // twists S_i and the contact samples.
   Mat3 q = model.root_frame;
   Vec3 r = Vec3::Zero();
+  double gravity_energy = 0.0, contact_energy = 0.0;
   std::optional<internal::ContactBroadPhase> broad_phase;
   if (obstacle) {
     broad_phase.emplace(*obstacle, model.root_position,
@@ -141,6 +148,7 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
       twist.bottomRows<3>().setZero();
     }
     hessian->twist[static_cast<size_t>(i)] = twist;
+    gravity_energy -= f.dot(l * r + q * s.moment);  // eq. 4, as GravityEnergy
 
     // The samples and the broad phase of ContactEnergy (energy.cpp); a sample's derivatives
     // only once it is known to carry a force.
@@ -157,6 +165,7 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
             obstacle->SignedDistanceHessian(model.root_position + y, &normal, &distance_hessian);
         const double x = contact.SampleClearance(i, j) - d;  // penetration of the layer
         if (!(x > 0.0)) continue;
+        contact_energy += 0.5 * weight * k_contact * x * x;  // as ContactEnergy
         SampleData& p = samples.emplace_back();
         p.segment = i;
         p.u = u;
@@ -178,6 +187,7 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
   // Reverse sweep: the adjoints of the gradient (r_bar = dE/dr_(i+1), q_bar = dE/dQ_(i+1), loads
   // held fixed) and Gamma, the contact stiffness of the samples downstream, in twist space.
   hessian->translational = !samples.empty();
+  if (gradient) gradient->resize(3 * n);
   Vec3 r_bar = Vec3::Zero();
   Mat3 q_bar = Mat3::Zero();
   Mat6 gamma = Mat6::Zero();
@@ -225,6 +235,21 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
       load_top -= CrossColumns(p.force, jacobian);
     }
     d += own.Hessian();
+    if (gradient) {
+      // The gradient's chain rule with the same adjoints (LoadSweep's reverse sweep): the chord
+      // and moment through their derivative matrices, the rotation through its left Jacobian
+      // (dR = [J dOmega]x R: d tr(A^T R) = tr(R A^T [J dOmega]x) = -Vee(R A^T) . J dOmega with
+      // A = Q_i^T q_bar, math.h's Vee), each sample's force through its partial chord's
+      // derivative.
+      const Mat3 ra = s.rotation * (qt * q_bar).transpose();
+      Vec3 g = s.d_chord.transpose() * (qt * r_bar) - s.d_moment.transpose() * (qt * f) -
+               s.jacobian.transpose() * Vee(ra);
+      for (int j = last; j > c; --j) {
+        const SampleData& p = samples[static_cast<size_t>(j)];
+        g += p.d_h.transpose() * (qt * p.force);
+      }
+      gradient->segment<3>(3 * i) = g;
+    }
     d.diagonal() += l * stiffness;  // elastic, eq. 3
     hessian->diagonal[static_cast<size_t>(i)] = 0.5 * (d + d.transpose());
     b.topRows<3>() += load_top;
@@ -240,6 +265,16 @@ void ComputeStrandHessian(const StrandModel& model, const VecX& curvatures,
       r_bar += p.force;
     }
   }
+  VecX elastic_gradient;
+  const double elastic = ElasticEnergy(model, curvatures, gradient ? &elastic_gradient : nullptr);
+  if (gradient) *gradient += elastic_gradient;
+  if (terms) {
+    terms->elastic = elastic;
+    terms->gravity = gravity_energy;
+    terms->contact = contact_energy;
+    terms->total = elastic + gravity_energy + contact_energy;
+  }
+  return elastic + gravity_energy + contact_energy;
 }
 
 void StrandHessian::Multiply(const VecX& v, VecX* out) const {
