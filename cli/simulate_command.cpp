@@ -20,6 +20,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "commands.h"
@@ -102,9 +103,10 @@ bool IsScene(const std::string& path, bool* scene, std::string* error) {
   return true;
 }
 
-// Runs ffmpeg on OUTDIR/frame_%04d.png into a temporary file outside OUTDIR, then writes the
-// video into OUTDIR atomically. False with a one-line reason.
-bool EncodeVideo(const std::string& directory, double fps, bool force, std::string* error) {
+// Runs ffmpeg on DIRECTORY/frame_%04d.png (the staging directory) into a temporary file
+// outside it, then writes the video as hair.mp4 of the output. False with a one-line reason.
+bool EncodeVideo(const std::string& directory, double fps, StagedDirectory* output,
+                 std::string* error) {
   char temporary[] = "/tmp/ringlet_simulate_XXXXXX.mp4";
   const int fd = mkstemps(temporary, 4);
   if (fd < 0) {
@@ -132,7 +134,7 @@ bool EncodeVideo(const std::string& directory, double fps, bool force, std::stri
   const bool read = ReadFile(temporary, &video, error, kMaxHairFileBytes);
   std::remove(temporary);
   if (!read) return false;
-  return WriteFileAtomically((fs::path(directory) / "hair.mp4").string(), video, force, error);
+  return output->WriteFile("hair.mp4", video, error);
 }
 
 bool OnPath(const char* program) {
@@ -324,12 +326,6 @@ int RunSimulate(const SimulateArgs& args) {
     PrintError(args.input_path + ": " + error);
     return kExitBadInput;
   }
-  if (static_cast<long long>(first.NumPoints()) * frames > kMaxPointFrames) {
-    PrintError(Format("--duration x --fps: %d frames of %d points exceed %lld point samples "
-                      "(hair.usda is encoded in memory); simulate fewer frames or strands",
-                      frames, first.NumPoints(), kMaxPointFrames));
-    return kExitBadInput;
-  }
 
   // Rendering: in the frame of the head at rest (the body does not move there), with the
   // camera and the key light carried by the inverse head pose, so that the picture is the one
@@ -368,23 +364,59 @@ int RunSimulate(const SimulateArgs& args) {
     return EncodePng(image, frame_settings.exposure, png, &error);
   };
 
-  std::vector<HairCurves> sequence;
-  sequence.reserve(static_cast<size_t>(frames));
-  std::string jsonl;
-  std::vector<std::pair<std::string, std::string>> files;
+  // The outputs are written as the frames come, into a staging directory put in place at the
+  // end, all or none (StagedDirectory; SIGINT / SIGTERM remove it): memory does not grow with
+  // the frame count.
+  StagedDirectory output;
+  if (!output.Open(args.output_dir, args.force, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  StagedDirectory::File usda_file, jsonl_file;
+  UsdaSequenceWriter usda;
+  UsdExportOptions usd;
+  usd.start_time_code = 0;
+  usd.time_codes_per_second = options.fps;
+  if (!output.Create("hair.usda", &usda_file, &error) ||
+      !output.Create("frames.jsonl", &jsonl_file, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  // A failed write names the file and the reason (a full disk); the encoder's own message
+  // otherwise.
+  auto usda_error = [&](const std::string& why) {
+    std::string reason;
+    if (!usda_file.Close(&reason)) return reason;
+    return "hair.usda: " + why;
+  };
+  {
+    const FileSink sink = [&usda_file](std::string_view piece) { return usda_file.Write(piece); };
+    if (!usda.Begin(first, frames, usd, sink, &error)) {
+      PrintError(usda_error(error));
+      return kExitBadInput;
+    }
+  }
   HairFileOptions hair_options;
   int halved_frames = 0, failed_frames = 0;
   long halved_total = 0, newton_total = 0;
+  bool first_pending = true;  // frame 0's strands are `first`
   auto record = [&]() -> bool {
     const FrameSummary& s = simulation->summary();
-    jsonl += FrameLine(s);
+    if (!jsonl_file.Write(FrameLine(s))) return jsonl_file.Close(&error);
     newton_total += s.newton_iterations;
     HairCurves curves, rest;
-    if (!frame_strands(&curves, args.render ? &rest : nullptr)) return false;
+    if (first_pending && !args.render) {
+      curves = std::move(first);
+    } else if (!frame_strands(&curves, args.render ? &rest : nullptr)) {
+      return false;
+    }
+    first_pending = false;
     if (args.hair_per_frame) {
       std::string bytes;
-      if (!EncodeStrands(curves, StrandFormat::kHair, hair_options, &bytes, &error)) return false;
-      files.emplace_back(FrameName(s.frame, "hair"), std::move(bytes));
+      if (!EncodeStrands(curves, StrandFormat::kHair, hair_options, &bytes, &error) ||
+          !output.WriteFile(FrameName(s.frame, "hair"), bytes, &error)) {
+        return false;
+      }
     }
     if (args.render) {
       std::string png;
@@ -392,9 +424,12 @@ int RunSimulate(const SimulateArgs& args) {
         error = FrameName(s.frame, "png") + ": " + error;
         return false;
       }
-      files.emplace_back(FrameName(s.frame, "png"), std::move(png));
+      if (!output.WriteFile(FrameName(s.frame, "png"), png, &error)) return false;
     }
-    sequence.push_back(std::move(curves));
+    if (!usda.Append(curves, &error)) {
+      error = usda_error(error);
+      return false;
+    }
     if (s.halved_steps > 0 || s.failed_steps > 0) {
       if (s.halved_steps > 0) ++halved_frames;
       if (s.failed_steps > 0) ++failed_frames;
@@ -426,18 +461,11 @@ int RunSimulate(const SimulateArgs& args) {
   }
   const double simulate_seconds = SecondsSince(simulate_start);
 
-  UsdExportOptions usd;
-  usd.start_time_code = 0;
-  usd.time_codes_per_second = options.fps;
-  std::string usda;
-  if (!EncodeUsdaSequence(sequence, usd, &usda, &error)) {
-    PrintError("hair.usda: " + error);
+  if (!usda.Finish(&error)) {
+    PrintError(usda_error(error));
     return kExitBadInput;
   }
-  sequence.clear();
-  files.emplace_back("hair.usda", std::move(usda));
-  files.emplace_back("frames.jsonl", std::move(jsonl));
-  if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
+  if (!usda_file.Close(&error) || !jsonl_file.Close(&error)) {
     PrintError(error);
     return kExitBadInput;
   }
@@ -446,17 +474,21 @@ int RunSimulate(const SimulateArgs& args) {
     if (!OnPath("ffmpeg")) {
       PrintWarning("ffmpeg is not on PATH: no hair.mp4 (the PNG frames are written; on Debian: "
                    "apt-get install ffmpeg)");
-    } else if (!EncodeVideo(args.output_dir, options.fps, args.force, &error)) {
+    } else if (!EncodeVideo(output.staging(), options.fps, &output, &error)) {
       PrintWarning(error + "; the PNG frames are written");
     } else {
       video = true;
     }
+  }
+  if (!output.Commit(&error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  if (args.render && !video) {
     // With --force, a video of an earlier run must not stay beside the new frames.
     std::error_code ignored;
     const fs::path stale = fs::path(args.output_dir) / "hair.mp4";
-    if (!video && fs::is_regular_file(fs::symlink_status(stale, ignored))) {
-      fs::remove(stale, ignored);
-    }
+    if (fs::is_regular_file(fs::symlink_status(stale, ignored))) fs::remove(stale, ignored);
   }
 
   if (!args.quiet) {
