@@ -10,6 +10,9 @@
 // input (nothing is written).
 #include <CLI/CLI.hpp>
 #include <sys/wait.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -288,7 +291,16 @@ int RunSimulate(const SimulateArgs& args) {
     return kExitBadInput;
   }
 
-  // The strands of the current frame.
+  // The strands of the current frame. A groom's: GroomFrameStrands' result, computed without
+  // reallocating a full head's arrays every frame: the wisps at rest are grown once
+  // (GrowWisps) and then regrown in place for every master (RegrowWisps: bit-identical to
+  // GrowWisps, wisps in parallel), then carried by the head pose with GroomFrameStrands'
+  // arithmetic (the same double products, in parallel). The rest pose (for rendering) is the
+  // wisps at rest themselves: GroomFrameStrands at the identity pose changes no bit.
+  HairCurves wisps;
+  bool wisps_grown = false;
+  std::vector<int> all_masters;
+  std::vector<StrandSolution> frame_solutions;
   auto frame_strands = [&](HairCurves* curves, HairCurves* rest) -> bool {
     if (scene_input) {
       *curves = SimulationStrands(*simulation, kScenePointsPerSegment);
@@ -304,20 +316,33 @@ int RunSimulate(const SimulateArgs& args) {
       }
       return true;
     }
-    std::vector<VecX> q;
-    for (int i = 0; i < simulation->NumStrands(); ++i) {
-      q.push_back(simulation->strand(i).state().curvatures);
+    const int n = simulation->NumStrands();
+    frame_solutions.resize(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      frame_solutions[static_cast<size_t>(i)].curvatures = simulation->strand(i).state().curvatures;
     }
-    if (!GroomFrameStrands(style, groom.masters, q, motion, simulation->summary().time, curves,
-                           &error)) {
+    if (!wisps_grown) {
+      if (!GrowWisps(style, groom.masters, frame_solutions, &wisps, &error)) return false;
+      wisps_grown = true;
+      all_masters.resize(static_cast<size_t>(n));
+      for (int i = 0; i < n; ++i) all_masters[static_cast<size_t>(i)] = i;
+    } else if (!RegrowWisps(style, groom.masters, frame_solutions, all_masters, &wisps, &error)) {
       return false;
     }
+    *curves = wisps;  // the same sizes every frame: no reallocation
+    const RigidPose pose = motion.Pose(simulation->summary().time);
+    const Eigen::Matrix3f rotation = pose.rotation.cast<float>();
+    const Vec3 shift = motion.pivot() + pose.translation - pose.rotation * motion.pivot();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, curves->points.size(), 4096),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t j = range.begin(); j != range.end(); ++j) {
+                          Vec3f& x = curves->points[j];
+                          x = (pose.rotation * x.cast<double>() + shift).cast<float>();
+                        }
+                      });
+    for (Vec3f& a : curves->major_axes) a = rotation * a;
     SetMelaninColours(render_settings, curves);
-    if (rest) {
-      if (!GroomFrameStrands(style, groom.masters, q, HeadMotion(), 0.0, rest, &error)) {
-        return false;
-      }
-    }
+    if (rest) *rest = wisps;
     return true;
   };
 
@@ -400,11 +425,11 @@ int RunSimulate(const SimulateArgs& args) {
   int halved_frames = 0, failed_frames = 0;
   long halved_total = 0, newton_total = 0;
   bool first_pending = true;  // frame 0's strands are `first`
+  HairCurves curves, rest;     // kept from frame to frame: their arrays are reused
   auto record = [&]() -> bool {
     const FrameSummary& s = simulation->summary();
     if (!jsonl_file.Write(FrameLine(s))) return jsonl_file.Close(&error);
     newton_total += s.newton_iterations;
-    HairCurves curves, rest;
     if (first_pending && !args.render) {
       curves = std::move(first);
     } else if (!frame_strands(&curves, args.render ? &rest : nullptr)) {
@@ -442,17 +467,25 @@ int RunSimulate(const SimulateArgs& args) {
     return true;
   };
 
+  // The frame's strands and files on --threads threads (the step makes its own arena).
+  tbb::task_arena arena(args.threads > 0 ? args.threads : tbb::task_arena::automatic);
+  auto record_in_arena = [&]() {
+    bool ok = false;
+    arena.execute([&] { ok = record(); });
+    return ok;
+  };
+
   const auto simulate_start = std::chrono::steady_clock::now();
   {
     ProgressBar bar("simulating", !args.quiet);
-    if (!record()) {
+    if (!record_in_arena()) {
       PrintError(error);
       return kExitBadInput;
     }
     bar.Update(1, frames);
     while (!simulation->Done()) {
       simulation->Advance(args.threads);
-      if (!record()) {
+      if (!record_in_arena()) {
         PrintError(error);
         return kExitBadInput;
       }
