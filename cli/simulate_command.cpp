@@ -72,6 +72,9 @@ struct SimulateArgs {
   int threads = 0;
 };
 
+// After a failure once the outputs are being written: the staging directory is removed.
+constexpr const char* kNothingWritten = " (nothing was written)";
+
 // Points per segment of the strands of a scene (SimulationStrands).
 constexpr int kScenePointsPerSegment = 4;
 
@@ -404,7 +407,7 @@ int RunSimulate(const SimulateArgs& args) {
   usd.time_codes_per_second = options.fps;
   if (!output.Create("hair.usda", &usda_file, &error) ||
       !output.Create("frames.jsonl", &jsonl_file, &error)) {
-    PrintError(error);
+    PrintError(error + kNothingWritten);
     return kExitBadInput;
   }
   // A failed write names the file and the reason (a full disk); the encoder's own message
@@ -417,7 +420,7 @@ int RunSimulate(const SimulateArgs& args) {
   {
     const FileSink sink = [&usda_file](std::string_view piece) { return usda_file.Write(piece); };
     if (!usda.Begin(first, frames, usd, sink, &error)) {
-      PrintError(usda_error(error));
+      PrintError(usda_error(error) + kNothingWritten);
       return kExitBadInput;
     }
   }
@@ -479,14 +482,14 @@ int RunSimulate(const SimulateArgs& args) {
   {
     ProgressBar bar("simulating", !args.quiet);
     if (!record_in_arena()) {
-      PrintError(error);
+      PrintError(error + kNothingWritten);
       return kExitBadInput;
     }
     bar.Update(1, frames);
     while (!simulation->Done()) {
       simulation->Advance(args.threads);
       if (!record_in_arena()) {
-        PrintError(error);
+        PrintError(error + kNothingWritten);
         return kExitBadInput;
       }
       bar.Update(simulation->frame() + 1, frames);
@@ -495,11 +498,11 @@ int RunSimulate(const SimulateArgs& args) {
   const double simulate_seconds = SecondsSince(simulate_start);
 
   if (!usda.Finish(&error)) {
-    PrintError(usda_error(error));
+    PrintError(usda_error(error) + kNothingWritten);
     return kExitBadInput;
   }
   if (!usda_file.Close(&error) || !jsonl_file.Close(&error)) {
-    PrintError(error);
+    PrintError(error + kNothingWritten);
     return kExitBadInput;
   }
   bool video = false;
