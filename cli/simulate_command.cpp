@@ -3,7 +3,8 @@
 // then simulated; the children follow their masters each frame) or a scene of single strands
 // (each solved, then simulated). The head moves rigidly by a preset or a motion file; every
 // frame goes into one time-sampled hair.usda and a line of frames.jsonl, optionally a .hair and
-// a rendered PNG per frame and an MP4 through ffmpeg.
+// a rendered PNG per frame and an MP4 through ffmpeg. The files are streamed as the frames come
+// into a staging directory put in place at the end, all or none (StagedDirectory).
 //
 // Exit codes: 0 every step converged (halved steps are reported, not failures), 2 some step
 // failed even after halving (files are still written, frames.jsonl says where), 1 bad usage or
