@@ -635,7 +635,7 @@ bool StagedDirectory::Open(const std::string& directory, bool overwrite, std::st
     if (error_number != EEXIST) break;
   }
   Discard();
-  return Fail(error, directory, "cannot create a staging directory beside it", error_number);
+  return Fail(error, directory, "cannot create a staging directory for it", error_number);
 }
 
 bool StagedDirectory::Create(const std::string& name, File* file, std::string* error) {
