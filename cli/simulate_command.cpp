@@ -3,13 +3,17 @@
 // then simulated; the children follow their masters each frame) or a scene of single strands
 // (each solved, then simulated). The head moves rigidly by a preset or a motion file; every
 // frame goes into one time-sampled hair.usda and a line of frames.jsonl, optionally a .hair and
-// a rendered PNG per frame and an MP4 through ffmpeg.
+// a rendered PNG per frame and an MP4 through ffmpeg. The files are streamed as the frames come
+// into a staging directory put in place at the end, all or none (StagedDirectory).
 //
 // Exit codes: 0 every step converged (halved steps are reported, not failures), 2 some step
 // failed even after halving (files are still written, frames.jsonl says where), 1 bad usage or
 // input (nothing is written).
 #include <CLI/CLI.hpp>
 #include <sys/wait.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -20,6 +24,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "commands.h"
@@ -68,6 +73,9 @@ struct SimulateArgs {
   int threads = 0;
 };
 
+// After a failure once the outputs are being written: the staging directory is removed.
+constexpr const char* kNothingWritten = " (nothing was written)";
+
 // Points per segment of the strands of a scene (SimulationStrands).
 constexpr int kScenePointsPerSegment = 4;
 
@@ -102,9 +110,10 @@ bool IsScene(const std::string& path, bool* scene, std::string* error) {
   return true;
 }
 
-// Runs ffmpeg on OUTDIR/frame_%04d.png into a temporary file outside OUTDIR, then writes the
-// video into OUTDIR atomically. False with a one-line reason.
-bool EncodeVideo(const std::string& directory, double fps, bool force, std::string* error) {
+// Runs ffmpeg on DIRECTORY/frame_%04d.png (the staging directory) into a temporary file
+// outside it, then writes the video as hair.mp4 of the output. False with a one-line reason.
+bool EncodeVideo(const std::string& directory, double fps, StagedDirectory* output,
+                 std::string* error) {
   char temporary[] = "/tmp/ringlet_simulate_XXXXXX.mp4";
   const int fd = mkstemps(temporary, 4);
   if (fd < 0) {
@@ -132,7 +141,7 @@ bool EncodeVideo(const std::string& directory, double fps, bool force, std::stri
   const bool read = ReadFile(temporary, &video, error, kMaxHairFileBytes);
   std::remove(temporary);
   if (!read) return false;
-  return WriteFileAtomically((fs::path(directory) / "hair.mp4").string(), video, force, error);
+  return output->WriteFile("hair.mp4", video, error);
 }
 
 bool OnPath(const char* program) {
@@ -286,7 +295,17 @@ int RunSimulate(const SimulateArgs& args) {
     return kExitBadInput;
   }
 
-  // The strands of the current frame.
+  // The strands of the current frame. A groom's: GroomFrameStrands' result, computed without
+  // reallocating a full head's arrays every frame: the wisps at rest are grown once
+  // (GrowWisps) and then regrown in place for every master (RegrowWisps: bit-identical to
+  // GrowWisps, wisps in parallel), then carried by the head pose with GroomFrameStrands'
+  // arithmetic (the same double products, in parallel). The rest pose (for rendering) is the
+  // wisps at rest themselves: GroomFrameStrands at the identity pose changes no value (at most
+  // the sign of a zero coordinate; the rendered PNGs are cmp-identical to main's).
+  HairCurves wisps;
+  bool wisps_grown = false;
+  std::vector<int> all_masters;
+  std::vector<StrandSolution> frame_solutions;
   auto frame_strands = [&](HairCurves* curves, HairCurves* rest) -> bool {
     if (scene_input) {
       *curves = SimulationStrands(*simulation, kScenePointsPerSegment);
@@ -302,32 +321,39 @@ int RunSimulate(const SimulateArgs& args) {
       }
       return true;
     }
-    std::vector<VecX> q;
-    for (int i = 0; i < simulation->NumStrands(); ++i) {
-      q.push_back(simulation->strand(i).state().curvatures);
+    const int n = simulation->NumStrands();
+    frame_solutions.resize(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      frame_solutions[static_cast<size_t>(i)].curvatures = simulation->strand(i).state().curvatures;
     }
-    if (!GroomFrameStrands(style, groom.masters, q, motion, simulation->summary().time, curves,
-                           &error)) {
+    if (!wisps_grown) {
+      if (!GrowWisps(style, groom.masters, frame_solutions, &wisps, &error)) return false;
+      wisps_grown = true;
+      all_masters.resize(static_cast<size_t>(n));
+      for (int i = 0; i < n; ++i) all_masters[static_cast<size_t>(i)] = i;
+    } else if (!RegrowWisps(style, groom.masters, frame_solutions, all_masters, &wisps, &error)) {
       return false;
     }
+    *curves = wisps;  // the same sizes every frame: no reallocation
+    const RigidPose pose = motion.Pose(simulation->summary().time);
+    const Eigen::Matrix3f rotation = pose.rotation.cast<float>();
+    const Vec3 shift = motion.pivot() + pose.translation - pose.rotation * motion.pivot();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, curves->points.size(), 4096),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t j = range.begin(); j != range.end(); ++j) {
+                          Vec3f& x = curves->points[j];
+                          x = (pose.rotation * x.cast<double>() + shift).cast<float>();
+                        }
+                      });
+    for (Vec3f& a : curves->major_axes) a = rotation * a;
     SetMelaninColours(render_settings, curves);
-    if (rest) {
-      if (!GroomFrameStrands(style, groom.masters, q, HeadMotion(), 0.0, rest, &error)) {
-        return false;
-      }
-    }
+    if (rest) *rest = wisps;
     return true;
   };
 
   HairCurves first;
   if (!frame_strands(&first, nullptr)) {
     PrintError(args.input_path + ": " + error);
-    return kExitBadInput;
-  }
-  if (static_cast<long long>(first.NumPoints()) * frames > kMaxPointFrames) {
-    PrintError(Format("--duration x --fps: %d frames of %d points exceed %lld point samples "
-                      "(hair.usda is encoded in memory); simulate fewer frames or strands",
-                      frames, first.NumPoints(), kMaxPointFrames));
     return kExitBadInput;
   }
 
@@ -368,23 +394,59 @@ int RunSimulate(const SimulateArgs& args) {
     return EncodePng(image, frame_settings.exposure, png, &error);
   };
 
-  std::vector<HairCurves> sequence;
-  sequence.reserve(static_cast<size_t>(frames));
-  std::string jsonl;
-  std::vector<std::pair<std::string, std::string>> files;
+  // The outputs are written as the frames come, into a staging directory put in place at the
+  // end, all or none (StagedDirectory; SIGINT / SIGTERM remove it): memory does not grow with
+  // the frame count.
+  StagedDirectory output;
+  if (!output.Open(args.output_dir, args.force, &error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  StagedDirectory::File usda_file, jsonl_file;
+  UsdaSequenceWriter usda;
+  UsdExportOptions usd;
+  usd.start_time_code = 0;
+  usd.time_codes_per_second = options.fps;
+  if (!output.Create("hair.usda", &usda_file, &error) ||
+      !output.Create("frames.jsonl", &jsonl_file, &error)) {
+    PrintError(error + kNothingWritten);
+    return kExitBadInput;
+  }
+  // A failed write names the file and the reason (a full disk); the encoder's own message
+  // otherwise.
+  auto usda_error = [&](const std::string& why) {
+    std::string reason;
+    if (!usda_file.Close(&reason)) return reason;
+    return "hair.usda: " + why;
+  };
+  {
+    const FileSink sink = [&usda_file](std::string_view piece) { return usda_file.Write(piece); };
+    if (!usda.Begin(first, frames, usd, sink, &error)) {
+      PrintError(usda_error(error) + kNothingWritten);
+      return kExitBadInput;
+    }
+  }
   HairFileOptions hair_options;
   int halved_frames = 0, failed_frames = 0;
   long halved_total = 0, newton_total = 0;
+  bool first_pending = true;  // frame 0's strands are `first`
+  HairCurves curves, rest;     // kept from frame to frame: their arrays are reused
   auto record = [&]() -> bool {
     const FrameSummary& s = simulation->summary();
-    jsonl += FrameLine(s);
+    if (!jsonl_file.Write(FrameLine(s))) return jsonl_file.Close(&error);
     newton_total += s.newton_iterations;
-    HairCurves curves, rest;
-    if (!frame_strands(&curves, args.render ? &rest : nullptr)) return false;
+    if (first_pending && !args.render) {
+      curves = std::move(first);
+    } else if (!frame_strands(&curves, args.render ? &rest : nullptr)) {
+      return false;
+    }
+    first_pending = false;
     if (args.hair_per_frame) {
       std::string bytes;
-      if (!EncodeStrands(curves, StrandFormat::kHair, hair_options, &bytes, &error)) return false;
-      files.emplace_back(FrameName(s.frame, "hair"), std::move(bytes));
+      if (!EncodeStrands(curves, StrandFormat::kHair, hair_options, &bytes, &error) ||
+          !output.WriteFile(FrameName(s.frame, "hair"), bytes, &error)) {
+        return false;
+      }
     }
     if (args.render) {
       std::string png;
@@ -392,9 +454,12 @@ int RunSimulate(const SimulateArgs& args) {
         error = FrameName(s.frame, "png") + ": " + error;
         return false;
       }
-      files.emplace_back(FrameName(s.frame, "png"), std::move(png));
+      if (!output.WriteFile(FrameName(s.frame, "png"), png, &error)) return false;
     }
-    sequence.push_back(std::move(curves));
+    if (!usda.Append(curves, &error)) {
+      error = usda_error(error);
+      return false;
+    }
     if (s.halved_steps > 0 || s.failed_steps > 0) {
       if (s.halved_steps > 0) ++halved_frames;
       if (s.failed_steps > 0) ++failed_frames;
@@ -407,18 +472,26 @@ int RunSimulate(const SimulateArgs& args) {
     return true;
   };
 
+  // The frame's strands and files on --threads threads (the step makes its own arena).
+  tbb::task_arena arena(args.threads > 0 ? args.threads : tbb::task_arena::automatic);
+  auto record_in_arena = [&]() {
+    bool ok = false;
+    arena.execute([&] { ok = record(); });
+    return ok;
+  };
+
   const auto simulate_start = std::chrono::steady_clock::now();
   {
     ProgressBar bar("simulating", !args.quiet);
-    if (!record()) {
-      PrintError(error);
+    if (!record_in_arena()) {
+      PrintError(error + kNothingWritten);
       return kExitBadInput;
     }
     bar.Update(1, frames);
     while (!simulation->Done()) {
       simulation->Advance(args.threads);
-      if (!record()) {
-        PrintError(error);
+      if (!record_in_arena()) {
+        PrintError(error + kNothingWritten);
         return kExitBadInput;
       }
       bar.Update(simulation->frame() + 1, frames);
@@ -426,19 +499,12 @@ int RunSimulate(const SimulateArgs& args) {
   }
   const double simulate_seconds = SecondsSince(simulate_start);
 
-  UsdExportOptions usd;
-  usd.start_time_code = 0;
-  usd.time_codes_per_second = options.fps;
-  std::string usda;
-  if (!EncodeUsdaSequence(sequence, usd, &usda, &error)) {
-    PrintError("hair.usda: " + error);
+  if (!usda.Finish(&error)) {
+    PrintError(usda_error(error) + kNothingWritten);
     return kExitBadInput;
   }
-  sequence.clear();
-  files.emplace_back("hair.usda", std::move(usda));
-  files.emplace_back("frames.jsonl", std::move(jsonl));
-  if (!WriteOutputFiles(args.output_dir, files, args.force, &error)) {
-    PrintError(error);
+  if (!usda_file.Close(&error) || !jsonl_file.Close(&error)) {
+    PrintError(error + kNothingWritten);
     return kExitBadInput;
   }
   bool video = false;
@@ -446,17 +512,21 @@ int RunSimulate(const SimulateArgs& args) {
     if (!OnPath("ffmpeg")) {
       PrintWarning("ffmpeg is not on PATH: no hair.mp4 (the PNG frames are written; on Debian: "
                    "apt-get install ffmpeg)");
-    } else if (!EncodeVideo(args.output_dir, options.fps, args.force, &error)) {
+    } else if (!EncodeVideo(output.staging(), options.fps, &output, &error)) {
       PrintWarning(error + "; the PNG frames are written");
     } else {
       video = true;
     }
+  }
+  if (!output.Commit(&error)) {
+    PrintError(error);
+    return kExitBadInput;
+  }
+  if (args.render && !video) {
     // With --force, a video of an earlier run must not stay beside the new frames.
     std::error_code ignored;
     const fs::path stale = fs::path(args.output_dir) / "hair.mp4";
-    if (!video && fs::is_regular_file(fs::symlink_status(stale, ignored))) {
-      fs::remove(stale, ignored);
-    }
+    if (fs::is_regular_file(fs::symlink_status(stale, ignored))) fs::remove(stale, ignored);
   }
 
   if (!args.quiet) {

@@ -5,7 +5,9 @@
 # tips move with the shake and come back toward rest once it is over; a scene of single strands;
 # --hair-per-frame; --render (PNG frames, hair.mp4 through ffmpeg or a clear warning without
 # it); bad options and motion files give one line naming the field, exit code 1 and no output
-# directory; SIGTERM leaves nothing half-written.
+# directory; SIGINT and SIGTERM during the run leave neither OUTDIR nor its staging directory;
+# --force replaces an existing OUTDIR's files only at the end (an interrupt keeps them); a full
+# disk gives one line and leaves nothing.
 #
 # Needs RINGLET (the built binary) and EXAMPLES (the examples/ directory); run by ctest as
 # `cli_simulate`. Exits non-zero if any check failed, after printing what failed.
@@ -221,15 +223,69 @@ if command -v ffmpeg >/dev/null; then
     frame_0001.png frame_0002.png frame_0003.png
 fi
 
-# --- SIGTERM during the simulation: no output directory, no temporaries -----------------------
-(cd / && exec "$RINGLET" simulate "$SMALL" -o "$work/t" --motion walk --duration 600 -q) &
+# --- SIGINT / SIGTERM during the simulation: no output directory, no staging directory -------
+# The outputs are streamed into a staging directory beside OUTDIR (".t_INT.tmp-*"); the signal
+# is sent once hair.usda has frames in it.
+shopt -s nullglob dotglob
+wait_for_frames() {  # wait_for_frames GLOB: until a staged hair.usda holds a time sample
+  for _ in $(seq 1 600); do
+    for f in $1; do
+      grep -q "^        1: " "$f" 2>/dev/null && return 0
+    done
+    sleep 0.05
+  done
+  return 1
+}
+for signal in INT TERM; do
+  # A background job of a script ignores SIGINT and ringlet keeps an ignored signal ignored (as
+  # nohup wants): env restores the default first.
+  (cd / && exec env --default-signal=INT,TERM "$RINGLET" simulate "$SMALL" -o "$work/t_$signal" \
+    --motion walk --duration 600 -q) &
+  pid=$!
+  if wait_for_frames "$work/.t_$signal.tmp-*/hair.usda"; then ok; else fail "$signal: no staged hair.usda with frames"; fi
+  kill -s "$signal" "$pid" 2>/dev/null
+  wait "$pid"
+  status=$?
+  want=$((128 + $(kill -l "$signal")))
+  if [ "$status" -eq "$want" ]; then ok; else fail "SIG$signal: exit status $status, expected $want"; fi
+  if [ ! -e "$work/t_$signal" ]; then ok; else fail "SIG$signal left $work/t_$signal"; fi
+  left=("$work"/.t_"$signal".tmp-*)
+  if [ ${#left[@]} -eq 0 ]; then ok; else fail "SIG$signal left the staging directory ${left[*]}"; fi
+done
+
+# --- --force over an existing OUTDIR: replaced only at the end; an interrupt keeps it -----------
+mkdir -p "$work/f"
+echo "old usda" >"$work/f/hair.usda"
+echo "mine" >"$work/f/notes.txt"
+(cd / && exec env --default-signal=INT "$RINGLET" simulate "$SMALL" -o "$work/f" --force \
+  --motion walk --duration 600 -q) &
 pid=$!
-sleep 1
-kill -TERM "$pid" 2>/dev/null
+if wait_for_frames "$work/f/.staging.tmp-*/hair.usda"; then ok; else fail "--force: no staged hair.usda inside OUTDIR"; fi
+if [ "$(cat "$work/f/hair.usda")" = "old usda" ]; then ok; else fail "--force: hair.usda replaced before the end"; fi
+kill -INT "$pid" 2>/dev/null
 wait "$pid"
-status=$?
-if [ "$status" -eq 143 ]; then ok; else fail "SIGTERM: exit status $status, expected 143"; fi
-if [ ! -e "$work/t" ]; then ok; else fail "SIGTERM left $work/t: $(ls -A "$work/t")"; fi
+expect_files "--force, interrupted" "$work/f" hair.usda notes.txt
+if [ "$(cat "$work/f/hair.usda")" = "old usda" ]; then ok; else fail "--force, interrupted: hair.usda changed"; fi
+run simulate "$SMALL" -o "$work/f" --force --motion shake --duration 1.5 --threads 1 -q
+expect_rc "--force to the end" 0
+expect_files "--force to the end" "$work/f" hair.usda frames.jsonl notes.txt
+for f in hair.usda frames.jsonl; do
+  if cmp -s "$work/a/$f" "$work/f/$f"; then ok; else fail "--force: $f differs from the first run's"; fi
+done
+
+# --- a full disk (a file-size limit; SIGXFSZ ignored so that write() fails with EFBIG): one
+# line, exit 1, nothing left ---------------------------------------------------------------------
+(
+  trap '' XFSZ
+  ulimit -f 64
+  cd / && exec "$RINGLET" simulate "$SMALL" -o "$work/full" --motion shake --duration 1.5 -q
+) >"$work/stdout" 2>"$work/stderr"
+rc=$?
+expect_rc "full disk" 1
+expect_one_error_line "full disk" "full/hair.usda: cannot write: File too large (nothing was written)"
+left=("$work"/.full.tmp-*)
+if [ ! -e "$work/full" ] && [ ${#left[@]} -eq 0 ]; then ok; else fail "full disk left $(ls -d "$work"/full "$work"/.full.tmp-* 2>/dev/null)"; fi
+shopt -u nullglob dotglob
 
 echo "cli_simulate: $checks checks, $failures failures"
 [ "$failures" -eq 0 ]

@@ -11,6 +11,7 @@
 #include <tiny_obj_loader.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -21,6 +22,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ringlet/atomic_file.h"
@@ -876,6 +878,161 @@ TEST(UsdExport, RejectsBadInput) {
       << error;
   EXPECT_FALSE(WriteUsdaSequence(dir.File("s.usda"), frames, UsdExportOptions(), false, &error));
   EXPECT_EQ(dir.Count(), 2u);
+}
+
+// The streamed writer of `ringlet simulate`: EncodeUsdaSequence's bytes, piece by piece. The
+// frames span more than one round of the writer's parallel blocks (8,192 points a block, 16 a
+// round: 150,000 points); the samples also read back by the test's own parser.
+TEST(UsdExport, StreamedSequenceHasTheBytesOfEncodeUsdaSequence) {
+  for (const bool colors : {true, false}) {
+    const std::vector<uint32_t> counts(3000, 50);
+    std::vector<HairCurves> frames;
+    for (unsigned f = 0; f < 3; ++f) {
+      frames.push_back(MakeCurves(counts, colors, 70));
+      for (Vec3f& x : frames.back().points) x.y() += 0.003f * static_cast<float>(f);
+    }
+    UsdExportOptions options;
+    options.start_time_code = 0;
+    options.time_codes_per_second = 25;
+    std::string reference, error;
+    ASSERT_TRUE(EncodeUsdaSequence(frames, options, &reference, &error)) << error;
+    std::string streamed;
+    int pieces = 0;
+    UsdaSequenceWriter writer;
+    ASSERT_TRUE(writer.Begin(frames[0], 3, options,
+                             [&](std::string_view piece) {
+                               streamed += piece;
+                               ++pieces;
+                               return true;
+                             },
+                             &error))
+        << error;
+    for (const HairCurves& frame : frames) ASSERT_TRUE(writer.Append(frame, &error)) << error;
+    ASSERT_TRUE(writer.Finish(&error)) << error;
+    EXPECT_TRUE(streamed == reference) << "colours " << colors << ": " << streamed.size()
+                                       << " bytes streamed, " << reference.size() << " encoded";
+    EXPECT_GT(pieces, 6);  // handed over in pieces, not as one text
+    const auto samples = TimeSamples(streamed, "    point3f[] points");
+    ASSERT_EQ(samples.size(), 3u);
+    for (int f = 0; f < 3; ++f) {
+      EXPECT_EQ(samples[f].first, f);
+      EXPECT_EQ(samples[f].second, Flat(frames[f].points)) << f;
+    }
+  }
+}
+
+TEST(UsdExport, StreamedSequenceRefusesWhatItCannotStream) {
+  std::vector<HairCurves> frames = {MakeCurves({3, 4}, true, 80), MakeCurves({3, 4}, true, 80),
+                                    MakeCurves({3, 4}, true, 80)};
+  auto sink = [](std::string_view) { return true; };
+  std::string error;
+  UsdaSequenceWriter writer;
+  EXPECT_FALSE(writer.Begin(frames[0], 0, UsdExportOptions(), sink, &error));
+  EXPECT_NE(error.find("frames: expected at least one frame, got 0"), std::string::npos) << error;
+  ASSERT_TRUE(writer.Begin(frames[0], 3, UsdExportOptions(), sink, &error)) << error;
+  ASSERT_TRUE(writer.Append(frames[0], &error)) << error;
+  HairCurves wider = frames[1];
+  wider.widths[2] *= 2.0f;
+  EXPECT_FALSE(writer.Append(wider, &error));
+  EXPECT_NE(error.find("frames[1].widths: differ from frame 0's"), std::string::npos) << error;
+  HairCurves recounted = MakeCurves({4, 3}, true, 80);
+  EXPECT_FALSE(writer.Append(recounted, &error));
+  EXPECT_NE(error.find("frames[1].point_counts: differ"), std::string::npos) << error;
+  frames[1].points[0].x() = std::numeric_limits<float>::infinity();
+  EXPECT_FALSE(writer.Append(frames[1], &error));
+  EXPECT_NE(error.find("frames[1].points[0]: expected finite"), std::string::npos) << error;
+  frames[1].points[0].x() = 0.0f;
+  ASSERT_TRUE(writer.Append(frames[1], &error)) << error;
+  EXPECT_FALSE(writer.Finish(&error));
+  EXPECT_NE(error.find("frames: expected 3, got 2"), std::string::npos) << error;
+  ASSERT_TRUE(writer.Append(frames[2], &error)) << error;
+  EXPECT_FALSE(writer.Append(frames[2], &error));
+  EXPECT_NE(error.find("more frames than the 3 announced"), std::string::npos) << error;
+  // A sink that refuses (a full disk): "cannot write", and nothing more is handed to it.
+  int calls = 0;
+  UsdaSequenceWriter refused;
+  EXPECT_FALSE(refused.Begin(frames[0], 3, UsdExportOptions(),
+                             [&](std::string_view) { return ++calls < 1; }, &error));
+  EXPECT_EQ(error, "cannot write");
+  EXPECT_FALSE(refused.Append(frames[0], &error));
+  EXPECT_EQ(calls, 1);
+}
+
+// StagedDirectory: the output of `ringlet simulate`, written file by file and put in place at
+// the end, all or none.
+TEST(StagedDirectory, NewDirectoryAppearsOnlyAtCommitAndDiscardLeavesNothing) {
+  TempDir dir;
+  namespace fs = std::filesystem;
+  auto names = [](const std::string& path) {
+    std::vector<std::string> list;
+    for (const auto& e : fs::directory_iterator(path)) list.push_back(e.path().filename());
+    std::sort(list.begin(), list.end());
+    return list;
+  };
+  std::string error;
+  {
+    StagedDirectory staged;
+    ASSERT_TRUE(staged.Open(dir.File("a/b/out"), false, &error)) << error;
+    ASSERT_TRUE(staged.WriteFile("one.txt", "first", &error)) << error;
+    EXPECT_FALSE(fs::exists(dir.File("a/b/out")));
+    EXPECT_EQ(fs::path(staged.staging()).parent_path(), fs::path(dir.File("a/b")));
+  }  // destroyed without Commit: the staging directory and the parents it made are gone
+  EXPECT_EQ(dir.Count(), 0u);
+
+  StagedDirectory staged;
+  ASSERT_TRUE(staged.Open(dir.File("a/b/out/"), false, &error)) << error;
+  StagedDirectory::File file;
+  ASSERT_TRUE(staged.Create("two.txt", &file, &error)) << error;
+  EXPECT_TRUE(file.Write("se"));
+  ASSERT_TRUE(staged.WriteFile("one.txt", "first", &error)) << error;
+  EXPECT_TRUE(file.Write("cond"));
+  ASSERT_TRUE(file.Close(&error)) << error;
+  EXPECT_FALSE(staged.Create("one.txt", &file, &error));  // one name, one file
+  EXPECT_NE(error.find("out/one.txt: cannot create: File exists"), std::string::npos) << error;
+  EXPECT_FALSE(fs::exists(dir.File("a/b/out")));
+  ASSERT_TRUE(staged.Commit(&error)) << error;
+  EXPECT_EQ(names(dir.File("a/b")), std::vector<std::string>{"out"});
+  EXPECT_EQ(names(dir.File("a/b/out")), (std::vector<std::string>{"one.txt", "two.txt"}));
+  std::string text;
+  ASSERT_TRUE(ReadFile(dir.File("a/b/out/two.txt"), &text, &error)) << error;
+  EXPECT_EQ(text, "second");
+}
+
+TEST(StagedDirectory, ExistingDirectoryKeepsItsFilesUntilCommitAndOverwritesOnlyWithForce) {
+  TempDir dir;
+  namespace fs = std::filesystem;
+  std::string error, text;
+  ASSERT_TRUE(WriteFileAtomically(dir.File("a.txt"), "old a", false, &error)) << error;
+  ASSERT_TRUE(WriteFileAtomically(dir.File("keep.txt"), "kept", false, &error)) << error;
+  {
+    StagedDirectory staged;  // without overwrite: the existing a.txt stops the commit
+    ASSERT_TRUE(staged.Open(dir.File(""), false, &error)) << error;
+    EXPECT_EQ(fs::path(staged.staging()).parent_path(), fs::path(dir.File("")).parent_path());
+    ASSERT_TRUE(staged.WriteFile("a.txt", "new a", &error)) << error;
+    ASSERT_TRUE(staged.WriteFile("b.txt", "new b", &error)) << error;
+    EXPECT_FALSE(staged.Commit(&error));
+    EXPECT_NE(error.find("a.txt: already exists; written: none; not written: a.txt, b.txt"),
+              std::string::npos)
+        << error;
+  }
+  EXPECT_EQ(dir.Count(), 2u);  // a.txt and keep.txt, no staging directory
+  ASSERT_TRUE(ReadFile(dir.File("a.txt"), &text, &error)) << error;
+  EXPECT_EQ(text, "old a");
+
+  StagedDirectory staged;
+  ASSERT_TRUE(staged.Open(dir.File(""), true, &error)) << error;
+  ASSERT_TRUE(staged.WriteFile("a.txt", "new a", &error)) << error;
+  ASSERT_TRUE(ReadFile(dir.File("a.txt"), &text, &error)) << error;
+  EXPECT_EQ(text, "old a");  // replaced only at the end
+  EXPECT_EQ(dir.Count(), 3u);  // and the hidden staging directory
+  ASSERT_TRUE(staged.Commit(&error)) << error;
+  EXPECT_EQ(dir.Count(), 2u);
+  ASSERT_TRUE(ReadFile(dir.File("a.txt"), &text, &error)) << error;
+  EXPECT_EQ(text, "new a");
+  ASSERT_TRUE(ReadFile(dir.File("keep.txt"), &text, &error)) << error;
+  EXPECT_EQ(text, "kept");
+  EXPECT_FALSE(staged.Open(dir.File("a.txt"), true, &error));
+  EXPECT_NE(error.find("a.txt: exists and is not a directory"), std::string::npos) << error;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -59,9 +59,77 @@ bool WriteFilesAtomically(const std::string& directory,
                           const std::vector<std::pair<std::string, std::string>>& files,
                           bool overwrite, std::string* error);
 
+/// An output directory written file by file during a long run (`ringlet simulate`: a frame's
+/// files as it is made, hair.usda piece by piece) and put in place only at the end, all or
+/// none, like WriteFilesAtomically. Open makes a staging directory: beside the output directory
+/// when that does not exist yet ("<parent>/.<name>.tmp-<random>", the missing parents created),
+/// inside it when it does (".staging.tmp-<random>", hidden; the same file system either way).
+/// Files are written into it; Commit flushes them to disk and puts them in place: a new
+/// output directory by one rename of the staging directory (it appears complete), an existing
+/// one by one rename per file (overwrite as for WriteFileAtomically: only regular files are
+/// replaced, and only now). Any failure before Commit, Discard, the destructor, and SIGINT /
+/// SIGTERM (RemoveTemporariesOnSignals: the handler empties and removes the staging directory
+/// and the parents Open created) leave nothing: no staging directory, no output directory that
+/// was not there, every file the user had untouched. Names are plain file names. Messages name
+/// the final path (directory/name), never the staging one. Not thread-safe; never throws.
+class StagedDirectory {
+ public:
+  /// A file being written into the staging directory.
+  class File {
+   public:
+    File() = default;
+    File(const File&) = delete;
+    File& operator=(const File&) = delete;
+    ~File();
+    /// Appends data; false once a write has failed (Close says why).
+    bool Write(std::string_view data);
+    /// Closes the file; false with one line ("out/hair.usda: cannot write: No space left on
+    /// device") if a write or the close failed.
+    bool Close(std::string* error);
+
+   private:
+    friend class StagedDirectory;
+    int fd_ = -1;
+    int errno_ = 0;
+    std::string path_;  // the final path, for messages
+  };
+
+  StagedDirectory() = default;
+  StagedDirectory(const StagedDirectory&) = delete;
+  StagedDirectory& operator=(const StagedDirectory&) = delete;
+  ~StagedDirectory();  // Discard unless committed
+
+  /// Creates the staging directory for directory (and its missing parents). False with one
+  /// line when directory is not a directory or cannot be created.
+  bool Open(const std::string& directory, bool overwrite, std::string* error);
+  /// Creates the file name in the staging directory (an existing one is an error).
+  bool Create(const std::string& name, File* file, std::string* error);
+  /// Create, Write and Close in one; on failure the file is removed again (not part of the
+  /// output).
+  bool WriteFile(const std::string& name, std::string_view contents, std::string* error);
+  /// The staging directory (its files can be read there, e.g. by ffmpeg).
+  const std::string& staging() const { return staging_; }
+  /// Flushes every file and puts them in place (see above). A failure while flushing leaves
+  /// nothing ("... (nothing was written)"); a failure while renaming into an existing
+  /// directory names the files written and not written, as WriteFilesAtomically.
+  bool Commit(std::string* error);
+  /// Removes the staging directory, its files and the parents Open created.
+  void Discard();
+
+ private:
+  std::string directory_;             // the output directory
+  std::string staging_;               // the staging directory
+  bool existed_ = false;              // the output directory was there at Open
+  bool overwrite_ = false;
+  int slot_ = -1;                     // the staging directory's cleanup registration
+  std::vector<int> parent_slots_;     // the created parents' registrations
+  std::vector<std::string> created_;  // the parents Open created, outermost first
+  std::vector<std::string> names_;    // the files, in order of creation
+};
+
 /// Installs SIGINT and SIGTERM handlers that remove the temporary files WriteFileAtomically and
 /// WriteFilesAtomically are writing at that moment (and the directories WriteFilesAtomically
-/// created, when still empty), then end the process by the same signal (exit status 128 +
+/// created, when still empty) and the staging directories of StagedDirectory with their files, then end the process by the same signal (exit status 128 +
 /// signal in a shell). The handler is async-signal-safe (a fixed table of paths, unlink, rmdir,
 /// raise). For front ends: call once at start (the `ringlet` command does); signals that were
 /// ignored when it is called (nohup) stay ignored. Calling it again does nothing.

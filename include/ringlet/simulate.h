@@ -18,9 +18,9 @@ namespace ringlet {
 
 /// Most frames of one simulation (duration x fps + 1).
 inline constexpr int kMaxSimulationFrames = 1000000;
-/// Most point samples (points of a frame x frames) `ringlet simulate` and ringlet.simulate keep:
-/// the frames are held in memory (hair.usda is encoded there: ~40 bytes of text and 28 of curves
-/// per point and frame, ~4.5 GB at the limit; Python: 12 bytes).
+/// Most point samples (points of a frame x frames) ringlet.simulate keeps: it returns every
+/// frame's points as arrays (12 bytes per point sample). `ringlet simulate` streams its files
+/// and has no such limit (docs/dynamics.md, "Writing").
 inline constexpr long long kMaxPointFrames = 1LL << 26;
 /// Most implicit steps per frame.
 inline constexpr int kMaxSubsteps = 1000;

@@ -10,9 +10,11 @@
 // independent of the locale), so the output is deterministic and floats round-trip exactly.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
+#include "ringlet/atomic_file.h"
 #include "ringlet/hair_curves.h"
 
 namespace ringlet {
@@ -46,6 +48,47 @@ bool EncodeUsda(const HairCurves& curves, const UsdExportOptions& options, std::
 /// has colours or none. An empty sequence is an error.
 bool EncodeUsdaSequence(const std::vector<HairCurves>& frames, const UsdExportOptions& options,
                         std::string* text, std::string* error);
+
+/// EncodeUsdaSequence's text written frame by frame, so that a long sequence is never held in
+/// memory (`ringlet simulate`): Begin writes the layer metadata, the prim and its curve counts
+/// and opens the points' time samples; Append writes one frame's sample (its extent is kept:
+/// two points a frame); Finish closes the samples and writes the widths, the colours and the
+/// extent's samples. The bytes are those of EncodeUsdaSequence for the same frames; it takes
+/// only sequences whose curve counts, widths and colours are the first frame's in every frame
+/// (written once, before the points' samples, as EncodeUsdaSequence writes them then). The
+/// points of a frame are formatted in parallel (TBB, in the caller's arena) in fixed blocks
+/// handed to the sink in order: the bytes do not depend on the thread count. Memory: the
+/// first frame's counts, widths and colours, a few MB of text, 24 bytes a frame.
+class UsdaSequenceWriter {
+ public:
+  /// Checks options and the first frame (CheckHairCurves) and writes everything before the
+  /// first sample through sink. frames (>= 1) is how many frames Append will receive (the
+  /// header says it). False with one line in *error naming the field; "cannot write" when the
+  /// sink refused (its owner knows why).
+  bool Begin(const HairCurves& first, int frames, const UsdExportOptions& options,
+             FileSink sink, std::string* error);
+  /// One frame: checked (CheckHairCurves, "frames[k]...") and compared with the first
+  /// (counts, widths, colours: "frames[k].widths: differ from frame 0's ..."), then written.
+  bool Append(const HairCurves& frame, std::string* error);
+  /// After the last frame: the rest of the text. False if not every announced frame came.
+  bool Finish(std::string* error);
+
+ private:
+  bool Flush(std::string* error);
+
+  UsdExportOptions options_;
+  FileSink sink_;
+  int frames_ = 0;
+  int appended_ = 0;
+  bool begun_ = false;
+  bool failed_ = false;
+  std::vector<std::uint32_t> counts_;
+  std::vector<float> widths_;
+  std::vector<Vec3f> colors_;
+  std::vector<Vec3f> extents_;  // two per frame: lower and upper corner
+  std::string buffer_;
+  std::vector<std::string> blocks_;
+};
 
 /// EncodeUsda, then WriteFileAtomically (the file appears only complete). Errors start with path.
 bool WriteUsda(const std::string& path, const HairCurves& curves, const UsdExportOptions& options,

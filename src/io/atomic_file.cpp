@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -72,7 +73,7 @@ bool WriteAll(int fd, std::string_view data, int* error_number) {
 // lock-free on every platform ringlet builds on, hence async-signal-safe.
 constexpr int kCleanupSlots = 256;
 constexpr size_t kCleanupPathBytes = 4096;
-enum SlotState : int { kFree = 0, kBusy = 1, kFile = 2, kDirectory = 3 };
+enum SlotState : int { kFree = 0, kBusy = 1, kFile = 2, kDirectory = 3, kStaging = 4 };
 struct CleanupSlot {
   std::atomic<int> state{kFree};
   char path[kCleanupPathBytes];
@@ -101,6 +102,43 @@ void UnregisterCleanup(int slot) {
   g_cleanup[slot].state.store(kFree);
 }
 
+// A directory entry as getdents64 returns it (linux_dirent64).
+struct DirectoryEntry64 {
+  std::uint64_t inode;
+  std::int64_t offset;
+  unsigned short length;
+  unsigned char type;
+  char name[1];
+};
+
+// Removes the files of a staging directory (StagedDirectory: regular files only), then the
+// directory. Async-signal-safe (open, getdents64, unlinkat, rmdir; no heap): the signal handler
+// calls it. Entries are read again until a pass removes none (removing while reading may skip
+// some), a few passes at most.
+void EmptyAndRemoveDirectory(const char* path) {
+  const int fd = ::open(path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return;
+  alignas(8) char buffer[4096];
+  for (int pass = 0; pass < 8; ++pass) {
+    bool removed = false;
+    ::lseek(fd, 0, SEEK_SET);
+    for (;;) {
+      const long got = ::syscall(SYS_getdents64, fd, buffer, sizeof buffer);
+      if (got <= 0) break;
+      for (long at = 0; at < got;) {
+        const auto* entry = reinterpret_cast<const DirectoryEntry64*>(buffer + at);
+        at += entry->length;
+        const char* name = entry->name;
+        if (name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0))) continue;
+        if (::unlinkat(fd, name, 0) == 0) removed = true;
+      }
+    }
+    if (!removed) break;
+  }
+  ::close(fd);
+  ::rmdir(path);
+}
+
 extern "C" void RemoveTemporariesAndReraise(int signal_number) {
   // Files first, then the directories created for them (deepest were registered last).
   // Only regular files: for the instant of a RENAME_EXCHANGE (Commit) a temporary name can
@@ -111,6 +149,9 @@ extern "C" void RemoveTemporariesAndReraise(int signal_number) {
         S_ISREG(info.st_mode)) {
       ::unlink(g_cleanup[i].path);
     }
+  }
+  for (int i = 0; i < kCleanupSlots; ++i) {
+    if (g_cleanup[i].state.load() == kStaging) EmptyAndRemoveDirectory(g_cleanup[i].path);
   }
   for (int i = kCleanupSlots - 1; i >= 0; --i) {
     if (g_cleanup[i].state.load() == kDirectory) ::rmdir(g_cleanup[i].path);  // only if empty
@@ -483,6 +524,233 @@ bool WriteFilesAtomically(const std::string& directory,
   }
   for (int slot : directory_slots) UnregisterCleanup(slot);
   SyncDirectory(directory + "/.");
+  return true;
+}
+
+// ---- StagedDirectory ----
+
+StagedDirectory::File::~File() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+bool StagedDirectory::File::Write(std::string_view data) {
+  if (fd_ < 0 || errno_ != 0) return false;
+  return WriteAll(fd_, data, &errno_);
+}
+
+bool StagedDirectory::File::Close(std::string* error) {
+  if (fd_ < 0) {
+    return errno_ != 0 ? Fail(error, path_, "cannot write", errno_) : true;
+  }
+  const int result = ::close(fd_);
+  const int close_errno = errno;
+  fd_ = -1;
+  if (errno_ != 0) return Fail(error, path_, "cannot write", errno_);
+  if (result != 0) {
+    errno_ = close_errno;
+    return Fail(error, path_, "cannot close", close_errno);
+  }
+  return true;
+}
+
+StagedDirectory::~StagedDirectory() { Discard(); }
+
+void StagedDirectory::Discard() {
+  if (!staging_.empty()) EmptyAndRemoveDirectory(staging_.c_str());
+  UnregisterCleanup(slot_);
+  slot_ = -1;
+  for (auto it = created_.rbegin(); it != created_.rend(); ++it) ::rmdir(it->c_str());
+  for (int slot : parent_slots_) UnregisterCleanup(slot);
+  parent_slots_.clear();
+  created_.clear();
+  names_.clear();
+  staging_.clear();
+}
+
+bool StagedDirectory::Open(const std::string& directory, bool overwrite, std::string* error) {
+  Discard();
+  if (directory.empty()) {
+    if (error) *error = "(empty path): cannot write into a directory without a name";
+    return false;
+  }
+  directory_ = directory;
+  while (directory_.size() > 1 && directory_.back() == '/') directory_.pop_back();
+  overwrite_ = overwrite;
+  std::string prefix;
+  struct stat info;
+  if (::stat(directory.c_str(), &info) == 0) {
+    if (!S_ISDIR(info.st_mode)) {
+      if (error) *error = DisplayPath(directory) + ": exists and is not a directory";
+      return false;
+    }
+    existed_ = true;
+    prefix = directory + "/.staging.tmp-";
+  } else {
+    existed_ = false;
+    const std::string& d = directory_;
+    const std::string name = BaseNameOf(d);
+    if (name.empty() || name == "." || name == "..") {
+      if (error) *error = DisplayPath(directory) + ": cannot create the directory";
+      return false;
+    }
+    // The missing parents, outermost first, each registered for removal on a signal.
+    std::vector<std::string> missing;
+    for (std::string p = DirectoryOf(d); !p.empty() && p != "/" && p != ".";) {
+      if (::stat(p.c_str(), &info) == 0) break;
+      missing.push_back(p);
+      const size_t slash = p.find_last_of('/');
+      if (slash == std::string::npos) break;
+      p = p.substr(0, slash);
+    }
+    for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+      parent_slots_.push_back(RegisterCleanup(*it, kDirectory));
+      if (::mkdir(it->c_str(), 0777) != 0) {
+        const int error_number = errno;
+        UnregisterCleanup(parent_slots_.back());  // not ours to remove
+        parent_slots_.pop_back();
+        if (error_number == EEXIST) continue;  // made by someone else meanwhile
+        Discard();
+        return Fail(error, *it, "cannot create the directory", error_number);
+      }
+      created_.push_back(*it);
+    }
+    prefix = DirectoryOf(d) + "/." + name + ".tmp-";
+  }
+  std::mt19937_64 rng(
+      static_cast<uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count()) ^
+      (static_cast<uint64_t>(::getpid()) << 40));
+  int error_number = 0;
+  for (int attempt = 0; attempt < kTemporaryNameAttempts; ++attempt) {
+    char suffix[17];
+    std::snprintf(suffix, sizeof(suffix), "%016llx", static_cast<unsigned long long>(rng()));
+    const std::string staging = prefix + suffix;
+    const int slot = RegisterCleanup(staging, kStaging);
+    if (::mkdir(staging.c_str(), 0777) == 0) {
+      staging_ = staging;
+      slot_ = slot;
+      return true;
+    }
+    error_number = errno;
+    UnregisterCleanup(slot);
+    if (error_number != EEXIST) break;
+  }
+  Discard();
+  return Fail(error, directory, "cannot create a staging directory for it", error_number);
+}
+
+bool StagedDirectory::Create(const std::string& name, File* file, std::string* error) {
+  if (file->fd_ >= 0) ::close(file->fd_);
+  file->fd_ = -1;
+  file->errno_ = 0;
+  file->path_ = directory_ + "/" + name;
+  if (staging_.empty()) {
+    if (error) *error = DisplayPath(file->path_) + ": the output directory is not open";
+    return false;
+  }
+  const std::string path = staging_ + "/" + name;
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) return Fail(error, file->path_, "cannot create", errno);
+  file->fd_ = fd;
+  names_.push_back(name);
+  return true;
+}
+
+bool StagedDirectory::WriteFile(const std::string& name, std::string_view contents,
+                                std::string* error) {
+  File file;
+  if (!Create(name, &file, error)) return false;
+  file.Write(contents);
+  if (file.Close(error)) return true;
+  // Not part of the output: a caller may go on without it (a video that did not fit).
+  ::unlink((staging_ + "/" + name).c_str());
+  names_.pop_back();
+  return false;
+}
+
+bool StagedDirectory::Commit(std::string* error) {
+  if (staging_.empty()) {
+    if (error) *error = DisplayPath(directory_) + ": the output directory is not open";
+    return false;
+  }
+  // 1. Every file to disk (the data is mostly written back already): a failure leaves nothing.
+  for (const std::string& name : names_) {
+    const std::string path = staging_ + "/" + name;
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || ::fsync(fd) != 0) {
+      const int error_number = errno;
+      if (fd >= 0) ::close(fd);
+      Discard();
+      Fail(error, directory_ + "/" + name, "cannot flush to disk", error_number);
+      if (error) *error += " (nothing was written)";
+      return false;
+    }
+    ::close(fd);
+  }
+  // 2a. A new output directory: the staging directory renamed to it, complete at once.
+  if (!existed_) {
+    int rename_errno = 0;
+    if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, directory_.c_str(),
+                    RENAME_NOREPLACE) == 0) {
+      rename_errno = 0;
+    } else {
+      rename_errno = errno;
+      if (FlagsUnsupported(rename_errno)) {
+        struct stat info;
+        if (::lstat(directory_.c_str(), &info) != 0) {
+          rename_errno = ::rename(staging_.c_str(), directory_.c_str()) == 0 ? 0 : errno;
+        } else {
+          rename_errno = EEXIST;
+        }
+      }
+    }
+    if (rename_errno == 0) {
+      staging_.clear();  // it is the output directory now
+      UnregisterCleanup(slot_);
+      slot_ = -1;
+      for (int slot : parent_slots_) UnregisterCleanup(slot);
+      parent_slots_.clear();
+      created_.clear();
+      names_.clear();
+      SyncDirectory(directory_);
+      return true;
+    }
+    struct stat info;
+    const bool appeared = (rename_errno == EEXIST || rename_errno == ENOTEMPTY) &&
+                          ::stat(directory_.c_str(), &info) == 0 && S_ISDIR(info.st_mode);
+    if (!appeared) {
+      Discard();
+      Fail(error, directory_, "cannot rename the staging directory into place", rename_errno);
+      if (error) *error += " (nothing was written)";
+      return false;
+    }
+    // The directory was made meanwhile by someone else: file by file into it, as below.
+  }
+  // 2b. An existing output directory: one rename per file (Commit: overwrite only regular
+  // files); a failure here names the files written and not written.
+  for (size_t k = 0; k < names_.size(); ++k) {
+    Staged staged;
+    staged.path = directory_ + "/" + names_[k];
+    staged.temporary = staging_ + "/" + names_[k];
+    std::string why;
+    if (!ringlet::Commit(&staged, overwrite_, &why)) {
+      std::string done, missing_names;
+      for (size_t j = 0; j < names_.size(); ++j) {
+        if (j == k) continue;
+        std::string& list = j < k ? done : missing_names;
+        list += (list.empty() ? "" : ", ") + names_[j];
+      }
+      missing_names = names_[k] + (missing_names.empty() ? "" : ", " + missing_names);
+      Discard();
+      if (error) {
+        *error = why + "; written: " + (done.empty() ? "none" : done) + "; not written: " +
+                 missing_names;
+      }
+      return false;
+    }
+  }
+  names_.clear();
+  Discard();  // the staging directory, empty now
+  SyncDirectory(directory_ + "/.");
   return true;
 }
 
