@@ -298,8 +298,8 @@ int RunSimulate(const SimulateArgs& args) {
   // The strands of the current frame. A groom's: GroomFrameStrands' result, computed without
   // reallocating a full head's arrays every frame: the wisps at rest are grown once
   // (GrowWisps) and then regrown in place for every master (RegrowWisps: bit-identical to
-  // GrowWisps, wisps in parallel), then carried by the head pose with GroomFrameStrands'
-  // arithmetic (the same double products, in parallel). The rest pose (for rendering) is the
+  // GrowWisps, wisps in parallel), then carried by the head pose (PoseStrands, as
+  // GroomFrameStrands). The rest pose (for rendering) is the
   // wisps at rest themselves: GroomFrameStrands at the identity pose changes no value (at most
   // the sign of a zero coordinate; the rendered PNGs are cmp-identical to main's).
   HairCurves wisps;
@@ -335,17 +335,7 @@ int RunSimulate(const SimulateArgs& args) {
       return false;
     }
     *curves = wisps;  // the same sizes every frame: no reallocation
-    const RigidPose pose = motion.Pose(simulation->summary().time);
-    const Eigen::Matrix3f rotation = pose.rotation.cast<float>();
-    const Vec3 shift = motion.pivot() + pose.translation - pose.rotation * motion.pivot();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, curves->points.size(), 4096),
-                      [&](const tbb::blocked_range<size_t>& range) {
-                        for (size_t j = range.begin(); j != range.end(); ++j) {
-                          Vec3f& x = curves->points[j];
-                          x = (pose.rotation * x.cast<double>() + shift).cast<float>();
-                        }
-                      });
-    for (Vec3f& a : curves->major_axes) a = rotation * a;
+    PoseStrands(motion, simulation->summary().time, curves);
     SetMelaninColours(render_settings, curves);
     if (rest) *rest = wisps;
     return true;

@@ -103,6 +103,11 @@ void HairstyleMotionAxes(const Hairstyle& style, Vec3* pivot, Vec3* up, Vec3* le
 void StrandsMotionAxes(const std::vector<StrandModel>& strands, Vec3* pivot, Vec3* up,
                        Vec3* left);
 
+/// Carries strands of the head at rest rigidly to where the head is at time t (points and major
+/// axes; GroomFrameStrands' last step), the points in parallel (each by the same double
+/// products on any thread count).
+void PoseStrands(const HeadMotion& motion, double t, HairCurves* strands);
+
 /// A groom's strands at one frame: the wisps grown (GrowWisps) around the masters at rest with
 /// the given curvatures, carried by the head pose at time t (points and major axes), so that the
 /// children follow their masters and their push-out from the body is the groom's. One curvature

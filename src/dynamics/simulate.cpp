@@ -195,15 +195,23 @@ bool GroomFrameStrands(const Hairstyle& style, const HairstyleMasters& masters,
   HairCurves curves;
   if (!GrowWisps(style, masters, solutions, &curves, why)) return false;
   // The wisps of the head at rest, carried rigidly to where the head is at t.
+  PoseStrands(motion, t, &curves);
+  *strands = std::move(curves);
+  return true;
+}
+
+void PoseStrands(const HeadMotion& motion, double t, HairCurves* strands) {
   const RigidPose pose = motion.Pose(t);
   const Eigen::Matrix3f rotation = pose.rotation.cast<float>();
   const Vec3 shift = motion.pivot() + pose.translation - pose.rotation * motion.pivot();
-  for (Vec3f& x : curves.points) {
-    x = (pose.rotation * x.cast<double>() + shift).cast<float>();
-  }
-  for (Vec3f& a : curves.major_axes) a = rotation * a;
-  *strands = std::move(curves);
-  return true;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, strands->points.size(), 4096),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t j = range.begin(); j != range.end(); ++j) {
+                        Vec3f& x = strands->points[j];
+                        x = (pose.rotation * x.cast<double>() + shift).cast<float>();
+                      }
+                    });
+  for (Vec3f& a : strands->major_axes) a = rotation * a;
 }
 
 HairCurves SimulationStrands(const Simulation& simulation, int points_per_segment) {
