@@ -43,6 +43,7 @@
 #include "ringlet/render_json.h"
 #include "ringlet/scene_json.h"
 #include "ringlet/simulate.h"
+#include "ringlet/split_body.h"
 #include "ringlet/strand_export.h"
 #include "ringlet/styling.h"
 #include "ringlet/usd_export.h"
@@ -359,9 +360,22 @@ int RunSimulate(const SimulateArgs& args) {
   bool have_camera = false;
   std::shared_ptr<const Body> render_body = scene_input ? scene.body : style.body;
   auto render_frame = [&](const HairCurves& rest, std::string* png) -> bool {
+    const RigidPose pose = motion.Pose(simulation->summary().time);
+    const Mat3 back = pose.rotation.transpose();
+    // A torso that does not turn with the head (split_body.h) is drawn where it is: in the
+    // head's rest frame, turned back by R^T about the pivot.
+    std::shared_ptr<const Body> frame_body = render_body;
+    if (render_body && render_body->HasTorsoPart() && pose.rotation != Mat3::Identity()) {
+      auto moved = std::make_shared<Body>();
+      if (!MoveBodyParts(*render_body, Mat3::Identity(), Vec3::Zero(), back,
+                         motion.pivot() - back * motion.pivot(), moved.get(), &error)) {
+        return false;
+      }
+      frame_body = std::move(moved);
+    }
     RenderScene render_scene;
     const double eccentricity = scene_input ? 0.0 : HairTypeEccentricity(style.hair_type);
-    if (!MakeRenderScene(frame_settings, &rest, render_body, eccentricity, style.seed,
+    if (!MakeRenderScene(frame_settings, &rest, frame_body, eccentricity, style.seed,
                          &render_scene, &error)) {
       return false;
     }
@@ -369,8 +383,6 @@ int RunSimulate(const SimulateArgs& args) {
       camera = render_scene.camera;  // framed on frame 0, then fixed in the world
       have_camera = true;
     }
-    const RigidPose pose = motion.Pose(simulation->summary().time);
-    const Mat3 back = pose.rotation.transpose();
     const Vec3 shift = motion.pivot() + pose.translation;
     auto to_rest = [&](const Vec3& x) { return Vec3(motion.pivot() + back * (x - shift)); };
     render_scene.camera = camera;

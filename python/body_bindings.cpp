@@ -228,22 +228,26 @@ void BindBody(py::module_& m) {
           "spheres",
           [](const BodyFile& self) {
             py::list out;
-            for (const Sphere& s : self.body->spheres()) {
+            for (size_t i = 0; i < self.body->spheres().size(); ++i) {
+              const Sphere& s = self.body->spheres()[i];
               py::dict d;
               d["name"] = s.name;
               d["center"] = Vec3Array(s.center);
               d["radius"] = s.radius;
+              d["moves_with"] = BodyPartName(self.body->sphere_part(i));
               out.append(d);
             }
             return out;
           },
-          "The spheres in file order: dicts {\"name\", \"center\" (3,) (m), \"radius\" (m)} "
-          "(copies).")
+          "The spheres in file order: dicts {\"name\", \"center\" (3,) (m), \"radius\" (m), "
+          "\"moves_with\" (\"head\" or \"torso\": the part it moves with when the head moves, "
+          "docs/body.md)} (copies).")
       .def_property_readonly(
           "meshes",
           [](const BodyFile& self) {
             py::list out;
-            for (const TriangleMesh& mesh : self.body->meshes()) {
+            for (size_t k = 0; k < self.body->meshes().size(); ++k) {
+              const TriangleMesh& mesh = self.body->meshes()[k];
               std::vector<double> v;
               v.reserve(3 * mesh.vertices().size());
               for (const Vec3& p : mesh.vertices()) v.insert(v.end(), {p.x(), p.y(), p.z()});
@@ -257,13 +261,14 @@ void BindBody(py::module_& m) {
               d["triangles"] =
                   OwnedArray(std::move(t), {static_cast<py::ssize_t>(mesh.triangles().size()), 3});
               d["volume"] = mesh.volume();
+              d["moves_with"] = BodyPartName(self.body->mesh_part(k));
               out.append(d);
             }
             return out;
           },
           "The closed meshes (one per OBJ object or group): dicts {\"name\", \"vertices\" "
           "(V, 3) float64 (m), \"triangles\" (T, 3) int32 (counter-clockwise seen from "
-          "outside), \"volume\" (m^3)} (copies).")
+          "outside), \"volume\" (m^3), \"moves_with\" (\"head\" or \"torso\")} (copies).")
       .def_property_readonly(
           "blend", [](const BodyFile& self) { return self.body->blend(); },
           "Radius of the smooth union (m; 0 = exact minimum).")

@@ -85,7 +85,7 @@ TEST(BodyJson, MessagesNameTheFieldUnderThePrefix) {
             "body.colour: unknown field (known fields: spheres, meshes, blend, description, "
             "mesh_distance, grid_spacing, grid_band)");
   EXPECT_EQ(Error(json::parse(R"({"spheres": [{"center": [0, 0, 0], "radius": 1, "r": 2}]})")),
-            "body.spheres[0].r: unknown field (known fields: name, center, radius)");
+            "body.spheres[0].r: unknown field (known fields: name, center, radius, moves_with)");
   EXPECT_EQ(Error(json::parse(R"({"spheres": [{"radius": 1}]})")),
             "body.spheres[0].center: missing required field (expected an array of 3 finite "
             "numbers (m))");
@@ -115,13 +115,69 @@ TEST(BodyJson, MessagesNameTheFieldUnderThePrefix) {
             "body.meshes[0].obj: missing required field (expected the path of an OBJ file "
             "(relative to the body file's directory))");
   EXPECT_EQ(Error(json::parse(R"({"meshes": [{"obj": "a.obj", "scale": 2}]})")),
-            "body.meshes[0].scale: unknown field (known fields: obj)");
+            "body.meshes[0].scale: unknown field (known fields: obj, moves_with)");
   EXPECT_EQ(Error(json::parse(R"({"description": 1, "spheres": []})")),
             "body.description: expected a string, got 1");
   EXPECT_EQ(Error(json::parse(R"({})")),
             "body: a body needs at least one sphere or mesh (\"spheres\", \"meshes\")");
   EXPECT_EQ(Error(json::parse(R"([1, 2])")),
             "body: expected an object {\"spheres\": [...], \"meshes\": [...]}, got [1,2]");
+}
+
+// "moves_with": the part a sphere or an OBJ object moves with (docs/body.md, "Head and torso"),
+// by name when absent; every wrong value named with its field.
+TEST(BodyJson, MovesWithSetsThePartOfEachComponent) {
+  TempDirectory dir;
+  dir.Write("two.obj", std::string(kBoxObj) +
+                           "o torso\nv 2 -1 -1\nv 4 -1 -1\nv 2 1 -1\nv 4 1 -1\nv 2 -1 1\n"
+                           "v 4 -1 1\nv 2 1 1\nv 4 1 1\nf 9 11 12 10\nf 13 14 16 15\n"
+                           "f 9 10 14 13\nf 11 15 16 12\nf 9 13 15 11\nf 10 12 16 14\n");
+  Body body;
+  std::string error;
+  ASSERT_TRUE(ParseBody(json::parse(R"({"spheres": [
+      {"name": "head", "center": [0, 0, 0], "radius": 0.1},
+      {"name": "neck", "center": [0, 0, -1], "radius": 0.1},
+      {"name": "hat", "center": [0, 0, 1], "radius": 0.1, "moves_with": "head"},
+      {"name": "jaw", "center": [0, 1, 0], "radius": 0.1, "moves_with": "torso"}],
+      "meshes": [{"obj": "two.obj"}, {"obj": "two.obj", "moves_with": "torso"},
+                 {"obj": "two.obj", "moves_with": {"torso": "head"}}],
+      "mesh_distance": "exact"})"),
+                        "body", dir.path(), &body, &error)) << error;
+  EXPECT_EQ(body.sphere_part(0), BodyPart::kHead);
+  EXPECT_EQ(body.sphere_part(1), BodyPart::kTorso);
+  EXPECT_EQ(body.sphere_part(2), BodyPart::kHead);
+  EXPECT_EQ(body.sphere_part(3), BodyPart::kTorso);
+  ASSERT_EQ(body.meshes().size(), 6u);  // box and torso, three times
+  const BodyPart parts[6] = {BodyPart::kTorso, BodyPart::kTorso, BodyPart::kTorso,
+                             BodyPart::kTorso, BodyPart::kTorso, BodyPart::kHead};
+  for (size_t i = 0; i < 6; ++i) EXPECT_EQ(body.mesh_part(i), parts[i]) << i;  // "box": torso
+
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [{"center": [0, 0, 0], "radius": 1,
+                                               "moves_with": "neck"}]})")),
+            "body.spheres[0].moves_with: expected \"head\" or \"torso\" (the part it moves "
+            "with), got \"neck\"");
+  EXPECT_EQ(Error(json::parse(R"({"spheres": [{"center": [0, 0, 0], "radius": 1,
+                                               "moves_with": 1}]})")),
+            "body.spheres[0].moves_with: expected \"head\" or \"torso\" (the part it moves "
+            "with), got 1");
+  EXPECT_EQ(Error(json::parse(R"({"meshes": [{"obj": "two.obj", "moves_with": ["head"]}]})"),
+                  dir.path()),
+            "body.meshes[0].moves_with: expected \"head\", \"torso\" or an object {\"OBJ "
+            "object or group name\": \"head\" or \"torso\"}, got [\"head\"]");
+  EXPECT_EQ(Error(json::parse(R"({"meshes": [{"obj": "two.obj", "moves_with": "arm"}]})"),
+                  dir.path()),
+            "body.meshes[0].moves_with: expected \"head\" or \"torso\" (the part it moves "
+            "with), got \"arm\"");
+  EXPECT_EQ(Error(json::parse(R"({"meshes": [{"obj": "two.obj",
+                                              "moves_with": {"torso": "feet"}}]})"),
+                  dir.path()),
+            "body.meshes[0].moves_with.torso: expected \"head\" or \"torso\" (the part it "
+            "moves with), got \"feet\"");
+  EXPECT_EQ(Error(json::parse(R"({"meshes": [{"obj": "two.obj",
+                                              "moves_with": {"tors": "torso"}}]})"),
+                  dir.path()),
+            "body.meshes[0].moves_with.tors: expected the name of an object or group of two.obj "
+            "(\"box\", \"torso\")");
 }
 
 TEST(BodyJson, MeshPathsAreRelativeToTheBaseDirectory) {

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,6 +19,25 @@ namespace ringlet {
 /// An axis-aligned box (m); Eigen's default-constructed box is empty.
 using Box3 = Eigen::AlignedBox3d;
 
+/// The part of the body a component moves with when the head moves (docs/body.md, "Head and
+/// torso"; docs/dynamics.md, "Head motion"): the head part follows the head's whole rigid motion
+/// (rotation about the pivot and translation), the torso part only its translation (a walk's
+/// bounce), never its rotation: a head turns and nods on a still torso.
+enum class BodyPart : std::uint8_t {
+  kHead,
+  kTorso,
+};
+
+/// "head" or "torso".
+const char* BodyPartName(BodyPart part);
+
+/// The part of a component by its name, when the body file does not say: kHead when a word of the
+/// name (the runs of ASCII letters, case ignored) starts with head, skull, cranium, scalp, face,
+/// forehead, brow, eye, ear, nose, cheek, jaw, chin, mouth or lip ("head", "jaw", "ear_left",
+/// "Nose2"), and for an unnamed component (an anonymous body is the head the strands grow on);
+/// kTorso for every other name ("neck", "chest", "shoulder_left", "torso").
+BodyPart DefaultBodyPart(std::string_view name);
+
 /// A solid sphere of the body.
 struct Sphere {
   /// Centre (m, world coordinates).
@@ -26,6 +46,8 @@ struct Sphere {
   double radius = 0.0;
   /// Name used to find the sphere (e.g. "head"); may be empty; unique within a body otherwise.
   std::string name;
+  /// The part it moves with; unset: DefaultBodyPart(name).
+  std::optional<BodyPart> moves_with = std::nullopt;
 };
 
 /// Signed distance to a sphere (m): |x - c| - r, exact. If gradient is not null it receives the
@@ -221,9 +243,13 @@ class Body final : public Obstacle {
   ///
   /// mesh_distance chooses exact mesh queries or a distance grid of the meshes' (blended) union,
   /// built here once (MeshDistanceOptions); spheres stay exact and are folded with it.
+  ///
+  /// mesh_moves_with gives the part of each mesh (empty, or one entry per mesh; an unset entry:
+  /// DefaultBodyPart of the mesh's name); spheres carry theirs (Sphere::moves_with).
   static bool Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes, Body* body,
                      std::string* error, double blend = 0.0,
-                     const MeshDistanceOptions& mesh_distance = {});
+                     const MeshDistanceOptions& mesh_distance = {},
+                     const std::vector<std::optional<BodyPart>>& mesh_moves_with = {});
 
   /// The mesh distance options given to Create.
   const MeshDistanceOptions& mesh_distance() const { return mesh_distance_; }
@@ -272,8 +298,18 @@ class Body final : public Obstacle {
   /// The sphere with this (non-empty) name, or null.
   const Sphere* FindSphere(std::string_view name) const;
 
+  /// The part sphere i moves with (its moves_with, or DefaultBodyPart of its name).
+  BodyPart sphere_part(size_t i) const { return sphere_parts_[i]; }
+  /// The part mesh i moves with (Create's mesh_moves_with, or DefaultBodyPart of its name).
+  BodyPart mesh_part(size_t i) const { return mesh_parts_[i]; }
+  /// Whether some component moves with the torso (otherwise the whole body moves with the head,
+  /// rigidly, and SplitBody is not needed).
+  bool HasTorsoPart() const;
+
  private:
   std::vector<Sphere> spheres_;
+  std::vector<BodyPart> sphere_parts_;
+  std::vector<BodyPart> mesh_parts_;
   // The spheres packed for the query loop: (cx, cy, cz, r).
   std::vector<Eigen::Vector4d> packed_spheres_;
   std::vector<TriangleMesh> meshes_;

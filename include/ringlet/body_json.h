@@ -24,6 +24,9 @@ inline constexpr double kDefaultGridBand = 0.03;
 ///   {"spheres": [{"name": "head", "center": [0, 0, 0], "radius": 0.1}, ...],
 ///    "meshes": [{"obj": "mannequin.obj"}, ...], "blend": 0.005, "description": "...",
 ///    "mesh_distance": "grid", "grid_spacing": 0.005, "grid_band": 0.03}
+/// with an optional "moves_with": "head" | "torso" per sphere, and per mesh entry either one part
+/// for every object of its OBJ file or {"object or group name": "head" | "torso", ...}
+/// (BodyPart; unset: DefaultBodyPart of the name).
 /// where every field is optional but the body needs at least one sphere or mesh: centres in m
 /// (3 finite numbers), radii in m (finite, > 0), names unique among the spheres, OBJ paths
 /// relative to base_directory (absolute paths are kept; LoadObjMeshes reads them, one closed

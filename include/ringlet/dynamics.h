@@ -10,6 +10,7 @@
 
 #include "ringlet/energy.h"
 #include "ringlet/math.h"
+#include "ringlet/obstacle.h"
 #include "ringlet/strand_hessian.h"
 #include "ringlet/strand_model.h"
 
@@ -136,6 +137,12 @@ struct ClampMotion {
   ///   x -> position(t) + frame(t) frame0^T (x - position0).
   /// False: the obstacle stays where it is (a strand brushing past a fixed body).
   bool carries_obstacle = false;
+  /// With carries_obstacle, when set: the obstacle at time t is move_obstacle(R, c) for the rigid
+  /// motion x -> R x + c above (R = frame(t) frame0^T, c = position(t) - R position0) instead of
+  /// the model's obstacle carried by it. HeadMotion::Clamp sets it for a body whose torso does
+  /// not turn with the head (SplitBody::Place). Called from the threads that step the strands.
+  std::function<std::shared_ptr<const Obstacle>(const Mat3& rotation, const Vec3& translation)>
+      move_obstacle = nullptr;
 };
 
 /// Time integration of one strand by an implicit scheme (Integrator) in the form of an

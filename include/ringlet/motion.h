@@ -5,6 +5,7 @@
 // c the pivot (the neck), so that the roots of the hair and the body move together.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,8 @@
 #include "ringlet/math.h"
 
 namespace ringlet {
+
+class SplitBody;
 
 /// The rigid placement of the head at one time: x -> pivot + translation + rotation (x - pivot).
 struct RigidPose {
@@ -90,8 +93,13 @@ class HeadMotion {
   const std::vector<MotionKeyframe>& keyframes() const { return keyframes_; }
 
   /// The clamp of a root at rest (position, frame) under this motion: position(t) =
-  /// Apply(t, position), frame(t) = R(t) frame; it carries the obstacle (the head).
-  ClampMotion Clamp(const Vec3& position, const Mat3& frame) const;
+  /// Apply(t, position), frame(t) = R(t) frame; it carries the obstacle (the head). With a split
+  /// body (a body with a torso part, SplitBody) the obstacle at t is that body placed with its
+  /// head part carried like the root and its torso part translated by the pose's d(t) alone
+  /// (never turned), recovered from the clamp's rigid motion x -> R x + b as d = b - c + R c
+  /// (c the pivot), so that head and torso move together exactly when R = I.
+  ClampMotion Clamp(const Vec3& position, const Mat3& frame,
+                    std::shared_ptr<const SplitBody> body = nullptr) const;
 
  private:
   MotionPreset preset_ = MotionPreset::kNone;

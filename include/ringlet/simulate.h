@@ -1,7 +1,7 @@
 // Simulating many strands under a rigid head motion, frame by frame (`ringlet simulate`,
 // ringlet.simulate; docs/dynamics.md, "Simulating a groom"): every strand a StrandDynamics with
-// its root carried by the HeadMotion (and its body with it), stepped in parallel, with a summary
-// per frame; and the strands of a frame (a groom's wisps around the moving masters).
+// its root carried by the HeadMotion (and its body's head part with it), stepped in parallel,
+// with a summary per frame; and the strands of a frame (a groom's wisps around the moving masters).
 #pragma once
 
 #include <atomic>
@@ -62,7 +62,8 @@ struct FrameSummary {
 class Simulation {
  public:
   /// Strand i starts at rest (zero rates) in curvatures start[i] (size 3n each) with its root
-  /// carried by motion (HeadMotion::Clamp, the body moving with it). Throws
+  /// carried by motion (HeadMotion::Clamp, the body moving with it: a Body with a torso part is
+  /// split once, SplitBody, and shared by the strands on it, its torso only translating). Throws
   /// std::invalid_argument naming the strand for invalid models, options or sizes.
   Simulation(const std::vector<StrandModel>& models, const std::vector<VecX>& start,
              const HeadMotion& motion, const SimulationOptions& options);

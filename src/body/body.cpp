@@ -11,9 +11,16 @@
 #include <utility>
 #include <vector>
 
+#include "body/body_fold.h"
 #include "body/distance_grid.h"
 
 namespace ringlet {
+
+using internal::NearestSphere;
+using internal::SmoothFold;
+using internal::SmoothFoldHessian;
+using internal::SphereHessian;
+
 namespace {
 
 // Largest distance grid Body::Create builds: 4 bytes per node, 256 MB.
@@ -28,49 +35,6 @@ std::string NumberText(double x) {
     if (std::strtod(text, nullptr) == x) break;
   }
   return text;
-}
-
-}  // namespace
-
-namespace {
-
-// The nearest sphere surface: the index of the sphere with the smallest |x - c| - r below *best
-// (which it then holds), or -1. The same answer, bit for bit, as taking the square root of every
-// sphere: a sphere is skipped without its root only when |x - c|^2 exceeds (best + r + margin)^2,
-// margin = 1e-12 (|best| + r) (far above the rounding of best + r and of the square), so that its
-// rounded distance could not have been below best either; an empty bound (below 0) skips too, as
-// |x - c| >= 0. Most spheres of a body are far from most samples: ~1 root per query, not 9.
-inline int NearestSphere(const std::vector<Eigen::Vector4d>& spheres, const Vec3& x,
-                         double* best) {
-  int nearest = -1;
-  const int count = static_cast<int>(spheres.size());
-  for (int i = 0; i < count; ++i) {
-    const Eigen::Vector4d& s = spheres[static_cast<size_t>(i)];
-    const double dx = x.x() - s(0), dy = x.y() - s(1), dz = x.z() - s(2);
-    const double d2 = dx * dx + dy * dy + dz * dz;
-    const double bound = *best + s(3) + 1e-12 * (std::abs(*best) + s(3));
-    if (bound < 0.0 || d2 > bound * bound) continue;  // false for best = inf and for NaN
-    const double d = std::sqrt(d2) - s(3);
-    if (d < *best) {
-      *best = d;
-      nearest = i;
-    }
-  }
-  return nearest;
-}
-
-// Folds a component's signed distance d (gradient g) into the running smooth minimum (best,
-// best_gradient) with the quadratic smooth minimum of width k (Body::Create).
-inline void SmoothFold(double d, const Vec3& g, double k, double* best, Vec3* best_gradient) {
-  if (d - *best >= k) return;
-  if (*best - d >= k) {
-    *best = d;
-    *best_gradient = g;
-    return;
-  }
-  const double h = 0.5 + 0.5 * (d - *best) / k;  // weight of the running minimum
-  *best = d + h * (*best - d) - k * h * (1.0 - h);
-  *best_gradient = h * *best_gradient + (1.0 - h) * g;
 }
 
 }  // namespace
@@ -93,8 +57,43 @@ bool MeshDistanceOptions::IsValid(std::string* why) const {
 
 std::size_t Body::GridMemoryBytes() const { return grid_ ? grid_->MemoryBytes() : 0; }
 
+const char* BodyPartName(BodyPart part) { return part == BodyPart::kTorso ? "torso" : "head"; }
+
+BodyPart DefaultBodyPart(std::string_view name) {
+  if (name.empty()) return BodyPart::kHead;
+  static constexpr std::string_view kHeadWords[] = {
+      "head", "skull", "cranium", "scalp", "face", "forehead", "brow", "eye",
+      "ear",  "nose",  "cheek",   "jaw",   "chin", "mouth",    "lip"};
+  size_t i = 0;
+  while (i < name.size()) {
+    // The next word: a run of ASCII letters, lower-cased.
+    auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
+    while (i < name.size() && !letter(name[i])) ++i;
+    std::string word;
+    while (i < name.size() && letter(name[i])) {
+      const char c = name[i++];
+      word.push_back(c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c);
+    }
+    for (std::string_view head : kHeadWords) {
+      if (!word.empty() && word.compare(0, head.size(), head) == 0) return BodyPart::kHead;
+    }
+  }
+  return BodyPart::kTorso;
+}
+
+bool Body::HasTorsoPart() const {
+  for (BodyPart p : sphere_parts_) {
+    if (p == BodyPart::kTorso) return true;
+  }
+  for (BodyPart p : mesh_parts_) {
+    if (p == BodyPart::kTorso) return true;
+  }
+  return false;
+}
+
 bool Body::Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes, Body* body,
-                  std::string* error, double blend, const MeshDistanceOptions& mesh_distance) {
+                  std::string* error, double blend, const MeshDistanceOptions& mesh_distance,
+                  const std::vector<std::optional<BodyPart>>& mesh_moves_with) {
   if (!(std::isfinite(blend) && blend >= 0.0)) {
     if (error) *error = "blend: expected a finite number >= 0 (m)";
     return false;
@@ -122,6 +121,24 @@ bool Body::Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes,
       if (error) *error = path + ".name: \"" + s.name + "\" is already the name of another sphere";
       return false;
     }
+    if (s.moves_with && *s.moves_with != BodyPart::kHead && *s.moves_with != BodyPart::kTorso) {
+      if (error) *error = path + ".moves_with: expected head or torso";
+      return false;
+    }
+  }
+  if (!mesh_moves_with.empty() && mesh_moves_with.size() != meshes.size()) {
+    if (error) {
+      *error = "mesh_moves_with: expected one entry per mesh (" + std::to_string(meshes.size()) +
+               ") or none, got " + std::to_string(mesh_moves_with.size());
+    }
+    return false;
+  }
+  for (size_t i = 0; i < mesh_moves_with.size(); ++i) {
+    const std::optional<BodyPart>& p = mesh_moves_with[i];
+    if (p && *p != BodyPart::kHead && *p != BodyPart::kTorso) {
+      if (error) *error = "mesh_moves_with[" + std::to_string(i) + "]: expected head or torso";
+      return false;
+    }
   }
   for (size_t i = 0; i < meshes.size(); ++i) {
     if (meshes[i].triangles().empty()) {
@@ -138,6 +155,14 @@ bool Body::Create(std::vector<Sphere> spheres, std::vector<TriangleMesh> meshes,
     result.bounds_.extend(s.center + Vec3::Constant(s.radius));
   }
   for (const TriangleMesh& m : meshes) result.bounds_.extend(m.bounds());
+  for (const Sphere& s : spheres) {
+    result.sphere_parts_.push_back(s.moves_with ? *s.moves_with : DefaultBodyPart(s.name));
+  }
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    result.mesh_parts_.push_back(!mesh_moves_with.empty() && mesh_moves_with[i]
+                                     ? *mesh_moves_with[i]
+                                     : DefaultBodyPart(meshes[i].name()));
+  }
   result.spheres_ = std::move(spheres);
   result.meshes_ = std::move(meshes);
   result.blend_ = blend;
@@ -261,35 +286,6 @@ double Body::SignedDistance(const Vec3& x, Vec3* gradient) const {
   }
   return best;
 }
-
-namespace {
-
-// SmoothFold with Hessians: the Hessian of the quadratic smooth minimum (Body::Create) of the
-// running minimum a and the component b, h H_a + (1 - h) H_b - (g_a - g_b)(g_a - g_b)^T / (2k).
-inline void SmoothFoldHessian(double d, const Vec3& g, const Mat3& hd, double k, double* best,
-                              Vec3* best_gradient, Mat3* best_hessian) {
-  if (d - *best >= k) return;
-  if (*best - d >= k) {
-    *best = d;
-    *best_gradient = g;
-    *best_hessian = hd;
-    return;
-  }
-  const double h = 0.5 + 0.5 * (d - *best) / k;
-  const Vec3 jump = *best_gradient - g;
-  *best = d + h * (*best - d) - k * h * (1.0 - h);
-  *best_hessian = h * *best_hessian + (1.0 - h) * hd - (jump * jump.transpose()) / (2.0 * k);
-  *best_gradient = h * *best_gradient + (1.0 - h) * g;
-}
-
-// Hessian of |x - c| - r: (I - n n^T) / |x - c| (0 at the centre, where it is undefined).
-inline Mat3 SphereHessian(const Vec3& r, double norm) {
-  if (!(norm > 0.0)) return Mat3::Zero();
-  const Vec3 n = r / norm;
-  return (Mat3::Identity() - n * n.transpose()) / norm;
-}
-
-}  // namespace
 
 double Body::SignedDistanceHessian(const Vec3& x, Vec3* gradient, Mat3* hessian) const {
   if (!hessian) return SignedDistance(x, gradient);

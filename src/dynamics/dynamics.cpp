@@ -453,8 +453,11 @@ bool StrandDynamics::PlaceClamp(double t, StrandModel* model) const {
   if (clamp_.carries_obstacle && reference_obstacle_) {
     // x -> p(t) + F(t) F0^T (x - p0) = R x + (p(t) - R p0).
     const Mat3 rotation = model->root_frame * reference_frame_.transpose();
-    model->contact.obstacle = std::make_shared<MovedObstacle>(
-        reference_obstacle_, rotation, model->root_position - rotation * reference_root_);
+    const Vec3 translation = model->root_position - rotation * reference_root_;
+    model->contact.obstacle =
+        clamp_.move_obstacle
+            ? clamp_.move_obstacle(rotation, translation)
+            : std::make_shared<MovedObstacle>(reference_obstacle_, rotation, translation);
   }
   return true;
 }

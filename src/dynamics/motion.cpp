@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "ringlet/split_body.h"
+
 namespace ringlet {
 namespace {
 
@@ -208,12 +210,20 @@ Vec3 HeadMotion::Apply(double t, const Vec3& x) const {
   return pivot_ + pose.translation + pose.rotation * (x - pivot_);
 }
 
-ClampMotion HeadMotion::Clamp(const Vec3& position, const Mat3& frame) const {
+ClampMotion HeadMotion::Clamp(const Vec3& position, const Mat3& frame,
+                              std::shared_ptr<const SplitBody> body) const {
   ClampMotion clamp;
   const HeadMotion motion = *this;
   clamp.position = [motion, position](double t) { return motion.Apply(t, position); };
   clamp.frame = [motion, frame](double t) -> Mat3 { return motion.Pose(t).rotation * frame; };
   clamp.carries_obstacle = true;
+  if (body) {
+    // x(t) = c + d + R (x - c) = R x + b with b = c + d - R c: the torso's d = b - c + R c.
+    const Vec3 pivot = pivot_;
+    clamp.move_obstacle = [body, pivot](const Mat3& rotation, const Vec3& translation) {
+      return body->Place(rotation, translation, translation - pivot + rotation * pivot);
+    };
+  }
   return clamp;
 }
 

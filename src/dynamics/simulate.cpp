@@ -8,10 +8,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
+#include "ringlet/body.h"
 #include "ringlet/contact.h"
+#include "ringlet/split_body.h"
 #include "ringlet/strand_geometry.h"
 
 namespace ringlet {
@@ -59,13 +63,29 @@ Simulation::Simulation(const std::vector<StrandModel>& models, const std::vector
   }
   options_.dynamics.time_step = 1.0 / (options_.fps * options_.substeps);
   strands_.reserve(models.size());
+  // A body with a torso part is split once (its parts' grids built once) and shared by every
+  // strand on it: its head part turns with the head, its torso part only translates. A motion
+  // that never turns (walk, none, keyframes without angles: R = I exactly) moves both parts
+  // alike, so the body stays one rigid obstacle there.
+  bool turns = motion_.preset() == MotionPreset::kNod || motion_.preset() == MotionPreset::kShake ||
+               motion_.preset() == MotionPreset::kTurn;
+  for (const MotionKeyframe& key : motion_.keyframes()) turns = turns || key.angle != 0.0;
+  std::map<const Obstacle*, std::shared_ptr<const SplitBody>> splits;
+  auto split_of = [&splits, turns](const std::shared_ptr<const Obstacle>& obstacle) {
+    const auto body = std::dynamic_pointer_cast<const Body>(obstacle);
+    if (!body || !turns) return std::shared_ptr<const SplitBody>();
+    const auto found = splits.find(body.get());
+    if (found != splits.end()) return found->second;
+    return splits[body.get()] = SplitBody::Create(body);
+  };
   for (size_t i = 0; i < models.size(); ++i) {
     try {
       StrandState state;
       state.curvatures = start[i];
       state.rates = VecX::Zero(start[i].size());
       strands_.emplace_back(models[i], options_.dynamics, state);
-      strands_.back().SetClampMotion(motion_.Clamp(models[i].root_position, models[i].root_frame));
+      strands_.back().SetClampMotion(motion_.Clamp(models[i].root_position, models[i].root_frame,
+                                                   split_of(models[i].contact.obstacle)));
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("strand " + std::to_string(i) + ": " + e.what());
     }

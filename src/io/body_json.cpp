@@ -11,6 +11,7 @@
 #include <initializer_list>
 #include <map>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <tuple>
@@ -30,16 +31,36 @@ using internal::Element;
 using internal::Member;
 using internal::Reader;
 
+constexpr const char* kPartExpected = "\"head\" or \"torso\" (the part it moves with)";
+
+// A "moves_with" value: "head" or "torso".
+bool ParsePart(Reader& reader, const json& value, const std::string& path, BodyPart* part) {
+  if (value == "head") {
+    *part = BodyPart::kHead;
+  } else if (value == "torso") {
+    *part = BodyPart::kTorso;
+  } else {
+    return reader.Expected(path, kPartExpected, value);
+  }
+  return true;
+}
+
 bool ParseSphere(Reader& reader, const json& object, const std::string& path, Sphere* sphere) {
   if (!object.is_object()) {
     return reader.Expected(path, "an object {\"center\": [x, y, z], \"radius\": r}", object);
   }
-  if (!reader.CheckFields(object, path, {"name", "center", "radius"})) return false;
+  if (!reader.CheckFields(object, path, {"name", "center", "radius", "moves_with"})) return false;
 
   const auto name = object.find("name");
   if (name != object.end()) {
     if (!name->is_string()) return reader.Expected(Member(path, "name"), "a string", *name);
     sphere->name = name->get<std::string>();
+  }
+  const auto moves_with = object.find("moves_with");
+  if (moves_with != object.end()) {
+    BodyPart part = BodyPart::kHead;
+    if (!ParsePart(reader, *moves_with, Member(path, "moves_with"), &part)) return false;
+    sphere->moves_with = part;
   }
 
   const char* center_expected = "an array of 3 finite numbers (m)";
@@ -68,10 +89,33 @@ bool ParseSphere(Reader& reader, const json& object, const std::string& path, Sp
 }
 
 bool ParseMesh(Reader& reader, const json& object, const std::string& path,
-               const std::string& base_directory, std::vector<TriangleMesh>* meshes) {
+               const std::string& base_directory, std::vector<TriangleMesh>* meshes,
+               std::vector<std::optional<BodyPart>>* parts) {
   if (!object.is_object())
     return reader.Expected(path, "an object {\"obj\": \"file.obj\"}", object);
-  if (!reader.CheckFields(object, path, {"obj"})) return false;
+  if (!reader.CheckFields(object, path, {"obj", "moves_with"})) return false;
+  // "moves_with": one part for every object of the file, or {"object name": part, ...}.
+  const char* moves_expected =
+      "\"head\", \"torso\" or an object {\"OBJ object or group name\": \"head\" or \"torso\"}";
+  const auto moves_with = object.find("moves_with");
+  std::optional<BodyPart> all;
+  std::map<std::string, BodyPart> by_name;
+  if (moves_with != object.end()) {
+    const std::string moves_path = Member(path, "moves_with");
+    if (moves_with->is_string()) {
+      BodyPart part = BodyPart::kHead;
+      if (!ParsePart(reader, *moves_with, moves_path, &part)) return false;
+      all = part;
+    } else if (moves_with->is_object()) {
+      for (const auto& item : moves_with->items()) {
+        BodyPart part = BodyPart::kHead;
+        if (!ParsePart(reader, item.value(), Member(moves_path, item.key()), &part)) return false;
+        by_name[item.key()] = part;
+      }
+    } else {
+      return reader.Expected(moves_path, moves_expected, *moves_with);
+    }
+  }
   const std::string field = Member(path, "obj");
   const char* expected = "the path of an OBJ file (relative to the body file's directory)";
   const auto obj = object.find("obj");
@@ -86,7 +130,21 @@ bool ParseMesh(Reader& reader, const json& object, const std::string& path,
   std::vector<TriangleMesh> loaded;
   std::string why;
   if (!LoadObjMeshes(file, &loaded, &why)) return reader.Fail(field, why);
-  for (TriangleMesh& m : loaded) meshes->push_back(std::move(m));
+  for (const auto& [name, part] : by_name) {
+    if (std::none_of(loaded.begin(), loaded.end(),
+                     [&](const TriangleMesh& m) { return m.name() == name; })) {
+      std::string names;
+      for (const TriangleMesh& m : loaded) names += (names.empty() ? "\"" : ", \"") + m.name() + "\"";
+      return reader.Fail(Member(Member(path, "moves_with"), name),
+                         "expected the name of an object or group of " + obj->get<std::string>() +
+                             " (" + names + ")");
+    }
+  }
+  for (TriangleMesh& m : loaded) {
+    const auto named = by_name.find(m.name());
+    parts->push_back(named != by_name.end() ? std::optional<BodyPart>(named->second) : all);
+    meshes->push_back(std::move(m));
+  }
   return true;
 }
 
@@ -168,6 +226,7 @@ bool ParseBodyObject(Reader& reader, const json& document, const std::string& pa
   }
 
   std::vector<TriangleMesh> meshes;
+  std::vector<std::optional<BodyPart>> mesh_parts;
   const json* mesh_array = nullptr;
   const std::string meshes_path = Member(path, "meshes");
   if (!reader.ReadArray(document, path, "meshes", "an array of mesh objects", &mesh_array)) {
@@ -175,7 +234,8 @@ bool ParseBodyObject(Reader& reader, const json& document, const std::string& pa
   }
   if (mesh_array) {
     for (size_t i = 0; i < mesh_array->size(); ++i) {
-      if (!ParseMesh(reader, (*mesh_array)[i], Element(meshes_path, i), base_directory, &meshes)) {
+      if (!ParseMesh(reader, (*mesh_array)[i], Element(meshes_path, i), base_directory, &meshes,
+                     &mesh_parts)) {
         return false;
       }
     }
@@ -186,7 +246,8 @@ bool ParseBodyObject(Reader& reader, const json& document, const std::string& pa
   }
   std::string why;
   Body body;
-  if (!Body::Create(std::move(spheres), std::move(meshes), &body, &why, blend, mesh_distance)) {
+  if (!Body::Create(std::move(spheres), std::move(meshes), &body, &why, blend, mesh_distance,
+                    mesh_parts)) {
     // Safety net: the field checks above should have caught everything.
     return reader.Fail(path, why);
   }

@@ -183,6 +183,8 @@ def test_file_bodies_and_reprs():
     body = ringlet.Body(str(EXAMPLES / "bodies" / "mannequin.json"))
     assert [s["name"] for s in body.spheres][:2] == ["head", "jaw"]
     assert body.spheres[0]["radius"] == 0.1
+    # Head and jaw turn with the head; neck, chest, shoulders, arms and back stay (body.md).
+    assert [s["moves_with"] for s in body.spheres] == ["head", "head"] + ["torso"] * 7
     assert body.base_directory == str((EXAMPLES / "bodies").resolve())
     assert body.document()["spheres"][0]["name"] == "head"
     text = repr(body)
