@@ -62,7 +62,7 @@ class Body:
         """"grid" (a B-spline of exact distances on a grid, C^2) or "exact" (closest-point queries) for the meshes."""
     @property
     def meshes(self) -> list:
-        """The closed meshes (one per OBJ object or group): dicts {"name", "vertices" (V, 3) float64 (m), "triangles" (T, 3) int32 (counter-clockwise seen from outside), "volume" (m^3)} (copies)."""
+        """The closed meshes (one per OBJ object or group): dicts {"name", "vertices" (V, 3) float64 (m), "triangles" (T, 3) int32 (counter-clockwise seen from outside), "volume" (m^3), "moves_with" ("head" or "torso")} (copies)."""
     def signed_distance(self, points: numpy.typing.ArrayLike) -> Any:
         """Signed distance (m, negative inside) at points (..., 3) (m): an array of shape (...,), or a float for a single point (3,). Body::SignedDistance: exact for spheres (|x - c| - r) and exact mesh queries, the grid's B-spline for grid meshes, folded by the smooth minimum where components are within `blend` of each other."""
     def signed_distance_gradient(self, points: numpy.typing.ArrayLike) -> Any:
@@ -71,7 +71,7 @@ class Body:
         """(distance, gradient, hessian): as signed_distance_gradient plus the Hessian of the distance (..., 3, 3) (1/m), Body::SignedDistanceHessian: (I - n n^T) / |x - c| for a sphere, the smooth minimum's own Hessian on the creases (docs/body.md)."""
     @property
     def spheres(self) -> list:
-        """The spheres in file order: dicts {"name", "center" (3,) (m), "radius" (m)} (copies)."""
+        """The spheres in file order: dicts {"name", "center" (3,) (m), "radius" (m), "moves_with" ("head" or "torso": the part it moves with when the head moves, docs/body.md)} (copies)."""
 
 class ContactMeasure:
     """Contact at a configuration."""
