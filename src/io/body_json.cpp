@@ -130,7 +130,8 @@ bool ParseMesh(Reader& reader, const json& object, const std::string& path,
   std::vector<TriangleMesh> loaded;
   std::string why;
   if (!LoadObjMeshes(file, &loaded, &why)) return reader.Fail(field, why);
-  for (const auto& [name, part] : by_name) {
+  for (const auto& entry : by_name) {
+    const std::string& name = entry.first;  // not a structured binding: clang 14 cannot capture one
     if (std::none_of(loaded.begin(), loaded.end(),
                      [&](const TriangleMesh& m) { return m.name() == name; })) {
       std::string names;
