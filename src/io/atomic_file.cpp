@@ -419,6 +419,47 @@ bool WriteFileAtomically(const std::string& path,
   return true;
 }
 
+namespace {
+
+// The directories from `path` up that do not exist, innermost first.
+std::vector<std::string> MissingDirectories(std::string path) {
+  std::vector<std::string> missing;
+  while (!path.empty() && path != "/" && path != ".") {
+    struct stat info;
+    if (::stat(path.c_str(), &info) == 0) break;
+    missing.push_back(path);
+    const size_t slash = path.find_last_of('/');
+    if (slash == std::string::npos) break;
+    path = path.substr(0, slash);
+  }
+  return missing;
+}
+
+// Creates `missing` (MissingDirectories' order) outermost first, each registered for removal on
+// a signal (its slot appended to *slots) and appended to *created; one made by someone else
+// meanwhile is left alone. False with the directory and errno of a failure; what was created
+// stays in *created and *slots for the caller's roll-back.
+bool CreateDirectories(const std::vector<std::string>& missing, std::vector<int>* slots,
+                       std::vector<std::string>* created, std::string* failed,
+                       int* error_number) {
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    slots->push_back(RegisterCleanup(*it, kDirectory));
+    if (::mkdir(it->c_str(), 0777) != 0) {
+      const int e = errno;
+      UnregisterCleanup(slots->back());  // not ours to remove
+      slots->pop_back();
+      if (e == EEXIST) continue;  // made by someone else meanwhile
+      *failed = *it;
+      *error_number = e;
+      return false;
+    }
+    created->push_back(*it);
+  }
+  return true;
+}
+
+}  // namespace
+
 bool WriteFilesAtomically(const std::string& directory,
                           const std::vector<std::pair<std::string, std::string>>& files,
                           bool overwrite, std::string* error) {
@@ -428,15 +469,7 @@ bool WriteFilesAtomically(const std::string& directory,
   }
   // The directories to create, outermost first; each is registered for removal on a signal
   // and removed again on failure (if still empty).
-  std::vector<std::string> missing;
-  for (std::string d = directory; !d.empty() && d != "/" && d != ".";) {
-    struct stat info;
-    if (::stat(d.c_str(), &info) == 0) break;
-    missing.push_back(d);
-    const size_t slash = d.find_last_of('/');
-    if (slash == std::string::npos) break;
-    d = d.substr(0, slash);
-  }
+  const std::vector<std::string> missing = MissingDirectories(directory);
   std::vector<int> directory_slots;
   std::vector<std::string> created;
   std::vector<Staged> staged;
@@ -445,17 +478,11 @@ bool WriteFilesAtomically(const std::string& directory,
     for (auto it = created.rbegin(); it != created.rend(); ++it) ::rmdir(it->c_str());
     for (int slot : directory_slots) UnregisterCleanup(slot);
   };
-  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
-    directory_slots.push_back(RegisterCleanup(*it, kDirectory));
-    if (::mkdir(it->c_str(), 0777) != 0) {
-      const int error_number = errno;
-      UnregisterCleanup(directory_slots.back());  // not ours to remove
-      directory_slots.pop_back();
-      if (error_number == EEXIST) continue;  // made by someone else meanwhile
-      roll_back();
-      return Fail(error, *it, "cannot create the directory", error_number);
-    }
-    created.push_back(*it);
+  std::string failed;
+  int error_number = 0;
+  if (!CreateDirectories(missing, &directory_slots, &created, &failed, &error_number)) {
+    roll_back();
+    return Fail(error, failed, "cannot create the directory", error_number);
   }
   // 1. Every file in full to its temporary: a failure (disk full, a bad path) rolls everything
   // back, and nothing the user had is touched. The paths are checked first, in order; then the
@@ -594,25 +621,12 @@ bool StagedDirectory::Open(const std::string& directory, bool overwrite, std::st
       return false;
     }
     // The missing parents, outermost first, each registered for removal on a signal.
-    std::vector<std::string> missing;
-    for (std::string p = DirectoryOf(d); !p.empty() && p != "/" && p != ".";) {
-      if (::stat(p.c_str(), &info) == 0) break;
-      missing.push_back(p);
-      const size_t slash = p.find_last_of('/');
-      if (slash == std::string::npos) break;
-      p = p.substr(0, slash);
-    }
-    for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
-      parent_slots_.push_back(RegisterCleanup(*it, kDirectory));
-      if (::mkdir(it->c_str(), 0777) != 0) {
-        const int error_number = errno;
-        UnregisterCleanup(parent_slots_.back());  // not ours to remove
-        parent_slots_.pop_back();
-        if (error_number == EEXIST) continue;  // made by someone else meanwhile
-        Discard();
-        return Fail(error, *it, "cannot create the directory", error_number);
-      }
-      created_.push_back(*it);
+    std::string failed;
+    int error_number = 0;
+    if (!CreateDirectories(MissingDirectories(DirectoryOf(d)), &parent_slots_, &created_, &failed,
+                           &error_number)) {
+      Discard();
+      return Fail(error, failed, "cannot create the directory", error_number);
     }
     prefix = DirectoryOf(d) + "/." + name + ".tmp-";
   }
