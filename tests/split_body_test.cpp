@@ -48,11 +48,16 @@ std::shared_ptr<const Body> MakeBody(std::vector<Sphere> spheres, double blend =
 
 TEST(BodyParts, DefaultByName) {
   for (const char* name : {"head", "jaw", "skull", "Face", "ear_left", "left_ear", "Nose2",
-                           "eyebrow", "lips", "chin", "cheek-right", "scalp", "cranium", ""}) {
+                           "eyebrow", "lips", "chin", "cheek-right", "scalp", "cranium", "",
+                           "Ears", "eyelashes", "leftEar", "EarLeft", "HEAD", "earrings", "hat",
+                           "glasses"}) {
     EXPECT_EQ(DefaultBodyPart(name), BodyPart::kHead) << name;
   }
   for (const char* name : {"neck", "chest", "shoulder_left", "arm_right", "back", "torso",
-                           "body", "hand", "belly"}) {
+                           "body", "hand", "belly",
+                           // Words that begin like a head word but are not one (whole words).
+                           "brown_coat", "earth", "headrest", "eyelet", "facet", "chinese",
+                           "lipid", "capsule", "hatch", "early"}) {
     EXPECT_EQ(DefaultBodyPart(name), BodyPart::kTorso) << name;
   }
   // The mannequin: head and jaw turn, the rest is torso; an explicit field wins.

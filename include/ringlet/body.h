@@ -32,10 +32,12 @@ enum class BodyPart : std::uint8_t {
 const char* BodyPartName(BodyPart part);
 
 /// The part of a component by its name, when the body file does not say: kHead when a word of the
-/// name (the runs of ASCII letters, case ignored) starts with head, skull, cranium, scalp, face,
-/// forehead, brow, eye, ear, nose, cheek, jaw, chin, mouth or lip ("head", "jaw", "ear_left",
-/// "Nose2"), and for an unnamed component (an anonymous body is the head the strands grow on);
-/// kTorso for every other name ("neck", "chest", "shoulder_left", "torso").
+/// name (the runs of ASCII letters, case ignored, split at camelCase humps) is a word of a head or
+/// of what is worn on one, whole, or with a plural s or es (head, skull, face, eyebrow, ear,
+/// earring, jaw, lip, hat, glasses, ...: docs/body.md, "Head and torso"; "head", "jaw",
+/// "ear_left", "leftEar", "Nose2"), and for an unnamed component (an anonymous body is the head
+/// the strands grow on); kTorso for every other name ("neck", "chest", "shoulder_left", "torso",
+/// "brown_coat").
 BodyPart DefaultBodyPart(std::string_view name);
 
 /// A solid sphere of the body.

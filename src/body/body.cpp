@@ -61,22 +61,40 @@ const char* BodyPartName(BodyPart part) { return part == BodyPart::kTorso ? "tor
 
 BodyPart DefaultBodyPart(std::string_view name) {
   if (name.empty()) return BodyPart::kHead;
+  // Whole words only (a prefix rule read "brown_coat" as a brow and "earth" as an ear): the
+  // parts of a head and what is worn on it, each also with a plural s or es.
   static constexpr std::string_view kHeadWords[] = {
-      "head", "skull", "cranium", "scalp", "face", "forehead", "brow", "eye",
-      "ear",  "nose",  "cheek",   "jaw",   "chin", "mouth",    "lip"};
+      "head",    "skull",    "cranium", "crania",   "scalp",    "face",      "forehead",
+      "brow",    "eyebrow",  "eye",     "eyelid",   "eyelash",  "ear",       "earlobe",
+      "earring", "nose",     "nostril", "cheek",    "cheekbone", "jaw",      "jawbone",
+      "jawline", "chin",     "mouth",   "lip",      "tooth",    "teeth",     "tongue",
+      "hat",     "cap",      "helmet",  "headband", "glasses",  "spectacles"};
+  auto is_head_word = [](std::string_view word) {
+    for (std::string_view head : kHeadWords) {
+      if (word == head) return true;
+      if (word.size() == head.size() + 1 && word.back() == 's' && word.starts_with(head)) {
+        return true;
+      }
+      if (word.size() == head.size() + 2 && word.ends_with("es") && word.starts_with(head)) {
+        return true;
+      }
+    }
+    return false;
+  };
+  auto lower = [](char c) { return c >= 'a' && c <= 'z'; };
+  auto upper = [](char c) { return c >= 'A' && c <= 'Z'; };
   size_t i = 0;
   while (i < name.size()) {
-    // The next word: a run of ASCII letters, lower-cased.
-    auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
-    while (i < name.size() && !letter(name[i])) ++i;
+    // The next word: a run of ASCII letters, lower-cased, that also ends where a lower-case
+    // letter is followed by an upper-case one (camelCase: "leftEar" is "left" and "ear").
+    while (i < name.size() && !lower(name[i]) && !upper(name[i])) ++i;
     std::string word;
-    while (i < name.size() && letter(name[i])) {
+    while (i < name.size() && (lower(name[i]) || upper(name[i]))) {
+      if (!word.empty() && upper(name[i]) && lower(name[i - 1])) break;
       const char c = name[i++];
-      word.push_back(c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c);
+      word.push_back(upper(c) ? static_cast<char>(c - 'A' + 'a') : c);
     }
-    for (std::string_view head : kHeadWords) {
-      if (!word.empty() && word.compare(0, head.size(), head) == 0) return BodyPart::kHead;
-    }
+    if (!word.empty() && is_head_word(word)) return BodyPart::kHead;
   }
   return BodyPart::kTorso;
 }
