@@ -8,16 +8,21 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <new>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "io/json_reader.h"
@@ -912,6 +917,58 @@ TEST(AtomicFile, RefusesADirectory) {
   EXPECT_FALSE(WriteFileAtomically(dir.path(), "x", true, &error));
   EXPECT_NE(error.find("is a directory"), std::string::npos) << error;
   EXPECT_TRUE(dir.Entries().empty());
+}
+
+// A signal while other threads keep writing: the handler runs on one thread and the others go on,
+// so one of them could make a temporary after the handler had passed its slot and leave it
+// behind (cli_limits' groom SIGTERM case saw one under load; CreationGuard in atomic_file.cpp).
+// Each trial is a death test in the threadsafe style (the child runs this test again from the
+// start, so the directory comes through the environment): 3 threads write small files without
+// pause while the main thread raises SIGTERM after a few milliseconds; the child must die by
+// the signal and leave only whole files. Before the fix, 6 of the 20 trials left one (idle).
+TEST(AtomicFileDeathTest, SignalWhileOtherThreadsWriteLeavesNoTemporary) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  constexpr const char* kVariable = "RINGLET_TEST_SIGNAL_DIRECTORY";
+  std::unique_ptr<TempDirectory> own;
+  std::string directory;
+  if (const char* inherited = std::getenv(kVariable)) {
+    directory = inherited;  // the child: the parent's directory
+  } else {
+    own = std::make_unique<TempDirectory>();
+    directory = own->path();
+    ASSERT_FALSE(directory.empty());
+    ::setenv(kVariable, directory.c_str(), 1);
+  }
+  for (int trial = 0; trial < 20; ++trial) {
+    const std::string trial_directory = directory + "/" + std::to_string(trial);
+    ::mkdir(trial_directory.c_str(), 0777);
+    EXPECT_EXIT(
+        {
+          RemoveTemporariesOnSignals();
+          std::atomic<int> written{0};
+          std::vector<std::thread> writers;
+          for (int t = 0; t < 3; ++t) {
+            writers.emplace_back([&, t] {
+              for (int k = 0;; ++k) {
+                std::string error;
+                const std::string name = trial_directory + "/f" + std::to_string(t) + "_" +
+                                         std::to_string(k % 4);
+                if (WriteFileAtomically(name, std::string(512, 'x'), true, &error)) ++written;
+              }
+            });
+          }
+          while (written.load() < 6) std::this_thread::yield();
+          std::this_thread::sleep_for(std::chrono::microseconds(200 * (trial % 5)));
+          std::raise(SIGTERM);
+          for (std::thread& w : writers) w.join();  // not reached
+        },
+        ::testing::KilledBySignal(SIGTERM), "");
+    for (const auto& entry : std::filesystem::directory_iterator(trial_directory)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_EQ(name.find(".tmp-"), std::string::npos) << "trial " << trial << " left " << name;
+    }
+  }
+  if (own) ::unsetenv(kVariable);
 }
 
 TEST(AtomicFile, ReadFileReadsWhatWasWritten) {

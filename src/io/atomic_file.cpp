@@ -3,6 +3,7 @@
 #include "ringlet/atomic_file.h"
 
 #include <fcntl.h>
+#include <pthread.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -11,6 +12,7 @@
 #include <cerrno>
 #include <csignal>
 #include <chrono>
+#include <ctime>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -102,6 +104,43 @@ void UnregisterCleanup(int slot) {
   g_cleanup[slot].state.store(kFree);
 }
 
+// The other threads go on running while one handles the signal: one of them could register and
+// make a temporary after the handler has passed its slot, and leave it behind (seen under load:
+// groom's files are written in parallel). So every "register, then create" runs inside a
+// CreationGuard: SIGINT / SIGTERM are blocked on its thread meanwhile (the handler never runs
+// inside one), it counts itself in g_creations, and it makes nothing once g_removing is set. The
+// handler sets g_removing, waits for g_creations to reach zero, and only then looks at the table
+// (both sequentially consistent: a guard either sees g_removing or is waited for).
+std::atomic<int> g_creations{0};
+std::atomic<bool> g_removing{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+class CreationGuard {
+ public:
+  CreationGuard() {
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGINT);
+    sigaddset(&signals, SIGTERM);
+    ::pthread_sigmask(SIG_BLOCK, &signals, &previous_);
+    g_creations.fetch_add(1);
+    if (g_removing.load()) {
+      // Another thread is removing the temporaries and will end the process: make nothing.
+      g_creations.fetch_sub(1);
+      for (;;) ::pause();
+    }
+  }
+  ~CreationGuard() {
+    g_creations.fetch_sub(1);
+    ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
+  }
+  CreationGuard(const CreationGuard&) = delete;
+  CreationGuard& operator=(const CreationGuard&) = delete;
+
+ private:
+  sigset_t previous_;
+};
+
 // A directory entry as getdents64 returns it (linux_dirent64).
 struct DirectoryEntry64 {
   std::uint64_t inode;
@@ -140,6 +179,13 @@ void EmptyAndRemoveDirectory(const char* path) {
 }
 
 extern "C" void RemoveTemporariesAndReraise(int signal_number) {
+  // No new temporaries from here on; the creations in flight on other threads finish first
+  // (CreationGuard: a few system calls each; 2 s at most, in case one is stuck on a slow disk).
+  g_removing.store(true);
+  for (int waited = 0; waited < 2000 && g_creations.load() > 0; ++waited) {
+    struct timespec millisecond {0, 1000000};
+    ::nanosleep(&millisecond, nullptr);
+  }
   // Files first, then the directories created for them (deepest were registered last).
   // Only regular files: for the instant of a RENAME_EXCHANGE (Commit) a temporary name can
   // hold what was at the output path, which is swapped back when it is not a regular file.
@@ -191,6 +237,7 @@ int CreateTemporary(const std::string& path, Staged* staged, int* error_number) 
     char suffix[17];
     std::snprintf(suffix, sizeof(suffix), "%016llx", static_cast<unsigned long long>(rng()));
     const std::string temporary = prefix + suffix;
+    CreationGuard guard;
     const int slot = RegisterCleanup(temporary, kFile);
     const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) {
@@ -443,6 +490,7 @@ bool CreateDirectories(const std::vector<std::string>& missing, std::vector<int>
                        std::vector<std::string>* created, std::string* failed,
                        int* error_number) {
   for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    CreationGuard guard;
     slots->push_back(RegisterCleanup(*it, kDirectory));
     if (::mkdir(it->c_str(), 0777) != 0) {
       const int e = errno;
@@ -638,6 +686,7 @@ bool StagedDirectory::Open(const std::string& directory, bool overwrite, std::st
     char suffix[17];
     std::snprintf(suffix, sizeof(suffix), "%016llx", static_cast<unsigned long long>(rng()));
     const std::string staging = prefix + suffix;
+    CreationGuard guard;
     const int slot = RegisterCleanup(staging, kStaging);
     if (::mkdir(staging.c_str(), 0777) == 0) {
       staging_ = staging;
@@ -662,8 +711,15 @@ bool StagedDirectory::Create(const std::string& name, File* file, std::string* e
     return false;
   }
   const std::string path = staging_ + "/" + name;
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) return Fail(error, file->path_, "cannot create", errno);
+  int fd = -1;
+  int open_errno = 0;
+  {
+    // A file made in the staging directory after the handler emptied it would keep it (rmdir).
+    CreationGuard guard;
+    fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    open_errno = errno;
+  }
+  if (fd < 0) return Fail(error, file->path_, "cannot create", open_errno);
   file->fd_ = fd;
   names_.push_back(name);
   return true;
