@@ -12,7 +12,9 @@
 // mannequin (BuildMasters: roots on the scalp, hair type, graded segments, body contact), started
 // at rest on their static equilibrium (SolveStrands), then the head shakes: the roots turn about
 // the head's up axis through its centre by 0.5 sin(2 pi t) rad (1 Hz, +-29 degrees), the inertial
-// terms of the moving clamp included (StrandDynamics::SetClampMotion). One benchmark iteration is
+// terms of the moving clamp included (StrandDynamics::SetClampMotion), and the body moves as
+// `ringlet simulate` moves it: its head part (head and jaw spheres) turns with the roots, its torso
+// (neck, chest, shoulders, arms, back) stays (SplitBody; docs/body.md). One benchmark iteration is
 // one frame: every master advanced by one StrandDynamics::Step, TBB over masters (one task per
 // master, as SolveStrands; all hardware threads). The strands are independent, so the results do
 // not depend on the thread count. Wall time and the process's CPU time (both threads) are
@@ -39,6 +41,7 @@
 #include "ringlet/hairstyle.h"
 #include "ringlet/hairstyle_json.h"
 #include "ringlet/solve_strands.h"
+#include "ringlet/split_body.h"
 #include "ringlet/strand_geometry.h"
 
 namespace ringlet {
@@ -68,6 +71,38 @@ Mat3 AxisRotation(const Vec3& axis, double angle) {
   return Mat3::Identity() + std::sin(angle) * k + (1.0 - std::cos(angle)) * (k * k);
 }
 
+// The benchmark's shake for one master: its root turned about the head's up axis through the
+// head's centre by 0.5 sin(2 pi t) rad, the body carried: with a split body (a torso part) its
+// head part turns and its torso stays, as ringlet simulate places it. The rigid motion is
+// x -> R x + c with c = centre - R centre, so the torso's translation c - centre + R centre = 0.
+ClampMotion ShakeClamp(const StrandModel& m, const HeadFrame& head,
+                       const std::shared_ptr<const SplitBody>& split) {
+  const Vec3 up = head.up.normalized();
+  const Vec3 arm = m.root_position - head.centre;
+  const Vec3 centre = head.centre;
+  const Mat3 frame = m.root_frame;
+  ClampMotion clamp;
+  clamp.position = [=](double t) {
+    return Vec3(centre + AxisRotation(up, 0.5 * std::sin(2 * kPi * t)) * arm);
+  };
+  clamp.frame = [=](double t) {
+    return Mat3(AxisRotation(up, 0.5 * std::sin(2 * kPi * t)) * frame);
+  };
+  clamp.carries_obstacle = true;
+  if (split) {
+    clamp.move_obstacle = [split, centre](const Mat3& rotation, const Vec3& translation) {
+      return split->Place(rotation, translation, translation - centre + rotation * centre);
+    };
+  }
+  return clamp;
+}
+
+// The body of a hairstyle split into head and torso parts, or null when it has no torso part
+// (then it moves rigidly with the head).
+std::shared_ptr<const SplitBody> SplitOf(const Hairstyle& style) {
+  return style.body && style.body->HasTorsoPart() ? SplitBody::Create(style.body) : nullptr;
+}
+
 void BM_HeadStep(benchmark::State& state) {
   Hairstyle style = LoadStyle(static_cast<int>(state.range(0)));
   style.roots.count = static_cast<int>(state.range(1));
@@ -80,7 +115,8 @@ void BM_HeadStep(benchmark::State& state) {
   }
   const std::vector<StrandSolution> rest = SolveStrands(masters.models, style.solver);
   const HeadFrame head = std::get<SphereScalp>(style.scalp).head;
-  const Vec3 up = head.up.normalized();
+  // The body as ringlet simulate places it: the head part turns, the torso stays.
+  const std::shared_ptr<const SplitBody> split = SplitOf(style);
   const size_t count = masters.models.size();
   std::vector<std::unique_ptr<StrandDynamics>> strands(count);
   for (size_t i = 0; i < count; ++i) {
@@ -91,12 +127,7 @@ void BM_HeadStep(benchmark::State& state) {
     options.model_tolerance = 1e-3 * static_cast<double>(state.range(4));
     strands[i] = std::make_unique<StrandDynamics>(m, options,
                                                   StrandState{q, VecX::Zero(q.size()), 0.0});
-    const Vec3 arm = m.root_position - head.centre;
-    const Mat3 frame = m.root_frame;
-    const Vec3 centre = head.centre;
-    strands[i]->SetClampMotion(
-        {[=](double t) { return Vec3(centre + AxisRotation(up, 0.5 * std::sin(2 * kPi * t)) * arm); },
-         [=](double t) { return Mat3(AxisRotation(up, 0.5 * std::sin(2 * kPi * t)) * frame); }});
+    strands[i]->SetClampMotion(ShakeClamp(m, head, split));
   }
   std::vector<StepReport> reports(count);
   long iterations = 0, factorizations = 0, steps = 0;
@@ -157,7 +188,7 @@ void BM_HeadThreadsAgree(benchmark::State& state) {
   if (!BuildMasters(style, &masters, &error)) std::abort();
   const std::vector<StrandSolution> rest = SolveStrands(masters.models, style.solver);
   const HeadFrame head = std::get<SphereScalp>(style.scalp).head;
-  const Vec3 up = head.up.normalized();
+  const std::shared_ptr<const SplitBody> split = SplitOf(style);
   auto run = [&](int threads) {
     const size_t count = masters.models.size();
     std::vector<std::unique_ptr<StrandDynamics>> strands(count);
@@ -165,11 +196,7 @@ void BM_HeadThreadsAgree(benchmark::State& state) {
       const StrandModel& m = masters.models[i];
       strands[i] = std::make_unique<StrandDynamics>(
           m, DynamicsOptions{}, StrandState{rest[i].curvatures, VecX::Zero(rest[i].curvatures.size()), 0.0});
-      const Vec3 arm = m.root_position - head.centre, centre = head.centre;
-      const Mat3 frame = m.root_frame;
-      strands[i]->SetClampMotion(
-          {[=](double t) { return Vec3(centre + AxisRotation(up, 0.5 * std::sin(2 * kPi * t)) * arm); },
-           [=](double t) { return Mat3(AxisRotation(up, 0.5 * std::sin(2 * kPi * t)) * frame); }});
+      strands[i]->SetClampMotion(ShakeClamp(m, head, split));
     }
     tbb::task_arena arena(threads);
     for (int k = 0; k < 6; ++k) {
