@@ -927,6 +927,7 @@ TEST(AtomicFile, RefusesADirectory) {
 // pause while the main thread raises SIGTERM after a few milliseconds; the child must die by
 // the signal and leave only whole files. Before the fix, 6 of the 20 trials left one (idle).
 TEST(AtomicFileDeathTest, SignalWhileOtherThreadsWriteLeavesNoTemporary) {
+  const std::string previous_style = GTEST_FLAG_GET(death_test_style);
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   constexpr const char* kVariable = "RINGLET_TEST_SIGNAL_DIRECTORY";
   std::unique_ptr<TempDirectory> own;
@@ -969,6 +970,7 @@ TEST(AtomicFileDeathTest, SignalWhileOtherThreadsWriteLeavesNoTemporary) {
     }
   }
   if (own) ::unsetenv(kVariable);
+  GTEST_FLAG_SET(death_test_style, previous_style);  // the rest of the binary's tests as they were
 }
 
 TEST(AtomicFile, ReadFileReadsWhatWasWritten) {
