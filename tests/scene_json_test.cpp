@@ -2,7 +2,9 @@
 // non-finite values) and atomic writes: src/io/.
 #include "ringlet/scene_json.h"
 
+#include <dlfcn.h>
 #include <gtest/gtest.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -921,7 +923,7 @@ TEST(AtomicFile, RefusesADirectory) {
 
 // A signal while other threads keep writing: the handler runs on one thread and the others go on,
 // so one of them could make a temporary after the handler had passed its slot and leave it
-// behind (cli_limits' groom SIGTERM case saw one under load; CreationGuard in atomic_file.cpp).
+// behind (cli_limits' groom SIGTERM case saw one under load; SignalGuard in atomic_file.cpp).
 // Each trial is a death test in the threadsafe style (the child runs this test again from the
 // start, so the directory comes through the environment): 3 threads write small files without
 // pause while the main thread raises SIGTERM after a few milliseconds; the child must die by
@@ -971,6 +973,93 @@ TEST(AtomicFileDeathTest, SignalWhileOtherThreadsWriteLeavesNoTemporary) {
   }
   if (own) ::unsetenv(kVariable);
   GTEST_FLAG_SET(death_test_style, previous_style);  // the rest of the binary's tests as they were
+}
+
+// A set of files put in place one rename at a time (WriteFilesAtomically; StagedDirectory::
+// Commit into an existing directory, as `ringlet simulate -o` an existing folder does) must not
+// be cut in two by a signal: before SignalGuard covered the renames, SIGTERM after the first
+// rename removed the temporaries not yet renamed, and the output was one new file among old
+// ones. The signal is raised from inside the first successful renameat2 of the set: this test
+// binary defines renameat2 (below, after the tests' namespace), which the library's calls
+// resolve to; it calls the C library's and raises SIGTERM on the thread once
+// g_raise_after_renames renames have succeeded (0, the default: it only passes through).
+std::atomic<int> g_raise_after_renames{0};
+
+// Runs `commit` (which writes "new" over the files of `names` in directory/<way>) in a
+// death-test child that SIGTERM ends right after the first rename; the set must be all new and
+// no temporary or staging directory left. Threadsafe style as above (the directory through the
+// environment; the child skips the set-up).
+void ExpectSignalLeavesWholeSet(
+    const std::string& way, const std::vector<std::string>& names,
+    const std::function<void(const std::string&, const std::vector<std::string>&)>& commit) {
+  const std::string previous_style = GTEST_FLAG_GET(death_test_style);
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  constexpr const char* kVariable = "RINGLET_TEST_COMMIT_DIRECTORY";
+  std::unique_ptr<TempDirectory> own;
+  std::string directory;
+  if (const char* inherited = std::getenv(kVariable)) {
+    directory = std::string(inherited) + "/" + way;  // the child: the parent's, set up
+  } else {
+    own = std::make_unique<TempDirectory>();
+    ASSERT_FALSE(own->path().empty());
+    ::setenv(kVariable, own->path().c_str(), 1);
+    directory = own->path() + "/" + way;
+    ASSERT_EQ(::mkdir(directory.c_str(), 0777), 0);
+    for (const std::string& name : names) {
+      std::string error;
+      ASSERT_TRUE(WriteFileAtomically(directory + "/" + name, "old", false, &error)) << error;
+    }
+  }
+  EXPECT_EXIT(
+      {
+        RemoveTemporariesOnSignals();
+        g_raise_after_renames.store(1);
+        commit(directory, names);
+        std::exit(0);  // not reached: the signal ends the process once the set is in place
+      },
+      ::testing::KilledBySignal(SIGTERM), "");
+  if (own) {
+    for (const std::string& name : names) {
+      std::string contents, error;
+      ASSERT_TRUE(ReadFile(directory + "/" + name, &contents, &error)) << error;
+      EXPECT_EQ(contents, "new") << way << ": " << name << " was left as it was";
+    }
+    size_t entries = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(directory)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_EQ(name.find(".tmp-"), std::string::npos) << way << " left " << name;
+      ++entries;
+    }
+    EXPECT_EQ(entries, names.size()) << way;
+    ::unsetenv(kVariable);
+  }
+  GTEST_FLAG_SET(death_test_style, previous_style);
+}
+
+const std::vector<std::string> kOutputSet = {"hair.usda", "strands.hair", "strands.obj",
+                                             "summary.json"};
+
+TEST(AtomicFileDeathTest, SignalDuringWriteFilesPutsTheWholeSetInPlace) {
+  ExpectSignalLeavesWholeSet(
+      "files", kOutputSet, [](const std::string& directory, const std::vector<std::string>& names) {
+        std::vector<std::pair<std::string, std::string>> files;
+        for (const std::string& name : names) files.emplace_back(name, "new");
+        std::string error;
+        WriteFilesAtomically(directory, files, true, &error);
+      });
+}
+
+TEST(AtomicFileDeathTest, SignalDuringStagedCommitPutsTheWholeSetInPlace) {
+  ExpectSignalLeavesWholeSet(
+      "staged", kOutputSet, [](const std::string& directory, const std::vector<std::string>& names) {
+        StagedDirectory staged;
+        std::string error;
+        if (!staged.Open(directory, true, &error)) return;
+        for (const std::string& name : names) {
+          if (!staged.WriteFile(name, "new", &error)) return;
+        }
+        staged.Commit(&error);
+      });
 }
 
 TEST(AtomicFile, ReadFileReadsWhatWasWritten) {
@@ -1339,3 +1428,17 @@ TEST(AtomicFile, WriteFilesRefusesExistingFilesWithoutOverwrite) {
 
 }  // namespace
 }  // namespace ringlet
+
+// The test binary's renameat2 (AtomicFileDeathTest.SignalDuring*): the C library's, then SIGTERM
+// on this thread when g_raise_after_renames counts down to zero (only in those tests' children).
+extern "C" int renameat2(int old_directory, const char* old_path, int new_directory,
+                         const char* new_path, unsigned int flags) noexcept {
+  using Function = int (*)(int, const char*, int, const char*, unsigned int);
+  static const Function real = reinterpret_cast<Function>(::dlsym(RTLD_NEXT, "renameat2"));
+  const int result = real(old_directory, old_path, new_directory, new_path, flags);
+  if (result == 0 && ringlet::g_raise_after_renames.load() > 0 &&
+      ringlet::g_raise_after_renames.fetch_sub(1) == 1) {
+    std::raise(SIGTERM);
+  }
+  return result;
+}

@@ -107,17 +107,22 @@ void UnregisterCleanup(int slot) {
 // The other threads go on running while one handles the signal: one of them could register and
 // make a temporary after the handler has passed its slot, and leave it behind (seen under load:
 // groom's files are written in parallel). So every "register, then create" runs inside a
-// CreationGuard: SIGINT / SIGTERM are blocked on its thread meanwhile (the handler never runs
+// SignalGuard: SIGINT / SIGTERM are blocked on its thread meanwhile (the handler never runs
 // inside one), it counts itself in g_creations, and it makes nothing once g_removing is set. The
 // handler sets g_removing, waits for g_creations to reach zero, and only then looks at the table
 // (both sequentially consistent: a guard either sees g_removing or is waited for).
+// A set of files put in place one rename at a time (WriteFilesAtomically, StagedDirectory::
+// Commit into an existing directory) runs its renames inside one SignalGuard too: otherwise a
+// signal part-way (on this thread or another) would remove the temporaries not yet renamed and
+// leave the output half old, half new. With the guard the set is put in place whole, then the
+// signal ends the process (no data is written while renaming: a few system calls per file).
 std::atomic<int> g_creations{0};
 std::atomic<bool> g_removing{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
 
-class CreationGuard {
+class SignalGuard {
  public:
-  CreationGuard() {
+  SignalGuard() {
     sigset_t signals;
     sigemptyset(&signals);
     sigaddset(&signals, SIGINT);
@@ -130,12 +135,12 @@ class CreationGuard {
       for (;;) ::pause();
     }
   }
-  ~CreationGuard() {
+  ~SignalGuard() {
     g_creations.fetch_sub(1);
     ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
   }
-  CreationGuard(const CreationGuard&) = delete;
-  CreationGuard& operator=(const CreationGuard&) = delete;
+  SignalGuard(const SignalGuard&) = delete;
+  SignalGuard& operator=(const SignalGuard&) = delete;
 
  private:
   sigset_t previous_;
@@ -180,7 +185,7 @@ void EmptyAndRemoveDirectory(const char* path) {
 
 extern "C" void RemoveTemporariesAndReraise(int signal_number) {
   // No new temporaries from here on; the creations in flight on other threads finish first
-  // (CreationGuard: a few system calls each; 2 s at most, in case one is stuck on a slow disk).
+  // (SignalGuard: a few system calls each; 2 s at most, in case one is stuck on a slow disk).
   g_removing.store(true);
   for (int waited = 0; waited < 2000 && g_creations.load() > 0; ++waited) {
     struct timespec millisecond {0, 1000000};
@@ -237,7 +242,7 @@ int CreateTemporary(const std::string& path, Staged* staged, int* error_number) 
     char suffix[17];
     std::snprintf(suffix, sizeof(suffix), "%016llx", static_cast<unsigned long long>(rng()));
     const std::string temporary = prefix + suffix;
-    CreationGuard guard;
+    SignalGuard guard;
     const int slot = RegisterCleanup(temporary, kFile);
     const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) {
@@ -490,7 +495,7 @@ bool CreateDirectories(const std::vector<std::string>& missing, std::vector<int>
                        std::vector<std::string>* created, std::string* failed,
                        int* error_number) {
   for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
-    CreationGuard guard;
+    SignalGuard guard;
     slots->push_back(RegisterCleanup(*it, kDirectory));
     if (::mkdir(it->c_str(), 0777) != 0) {
       const int e = errno;
@@ -579,22 +584,25 @@ bool WriteFilesAtomically(const std::string& directory,
   }
   // 2. Into place, one rename each (no data is written any more: only a race with another
   // process or an I/O error can stop this half-way, and then the message says which files are
-  // new and which are missing).
-  for (size_t k = 0; k < staged.size(); ++k) {
-    std::string why;
-    if (!Commit(&staged[k], overwrite, &why)) {
-      std::string done, missing_names;
-      for (size_t j = 0; j < staged.size(); ++j) {
-        std::string& list = j < k ? done : missing_names;
-        list += (list.empty() ? "" : ", ") + BaseNameOf(staged[j].path);
+  // new and which are missing). SIGINT / SIGTERM wait until the whole set is in place.
+  {
+    SignalGuard guard;
+    for (size_t k = 0; k < staged.size(); ++k) {
+      std::string why;
+      if (!Commit(&staged[k], overwrite, &why)) {
+        std::string done, missing_names;
+        for (size_t j = 0; j < staged.size(); ++j) {
+          std::string& list = j < k ? done : missing_names;
+          list += (list.empty() ? "" : ", ") + BaseNameOf(staged[j].path);
+        }
+        for (size_t j = k + 1; j < staged.size(); ++j) Discard(&staged[j]);
+        for (int slot : directory_slots) UnregisterCleanup(slot);
+        if (error) {
+          *error = why + "; written: " + (done.empty() ? "none" : done) + "; not written: " +
+                   missing_names;
+        }
+        return false;
       }
-      for (size_t j = k + 1; j < staged.size(); ++j) Discard(&staged[j]);
-      for (int slot : directory_slots) UnregisterCleanup(slot);
-      if (error) {
-        *error = why + "; written: " + (done.empty() ? "none" : done) + "; not written: " +
-                 missing_names;
-      }
-      return false;
     }
   }
   for (int slot : directory_slots) UnregisterCleanup(slot);
@@ -686,7 +694,7 @@ bool StagedDirectory::Open(const std::string& directory, bool overwrite, std::st
     char suffix[17];
     std::snprintf(suffix, sizeof(suffix), "%016llx", static_cast<unsigned long long>(rng()));
     const std::string staging = prefix + suffix;
-    CreationGuard guard;
+    SignalGuard guard;
     const int slot = RegisterCleanup(staging, kStaging);
     if (::mkdir(staging.c_str(), 0777) == 0) {
       staging_ = staging;
@@ -715,7 +723,7 @@ bool StagedDirectory::Create(const std::string& name, File* file, std::string* e
   int open_errno = 0;
   {
     // A file made in the staging directory after the handler emptied it would keep it (rmdir).
-    CreationGuard guard;
+    SignalGuard guard;
     fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     open_errno = errno;
   }
@@ -796,7 +804,9 @@ bool StagedDirectory::Commit(std::string* error) {
     // The directory was made meanwhile by someone else: file by file into it, as below.
   }
   // 2b. An existing output directory: one rename per file (Commit: overwrite only regular
-  // files); a failure here names the files written and not written.
+  // files); a failure here names the files written and not written. SIGINT / SIGTERM wait until
+  // the whole set is in place (SignalGuard).
+  SignalGuard guard;
   for (size_t k = 0; k < names_.size(); ++k) {
     Staged staged;
     staged.path = directory_ + "/" + names_[k];
