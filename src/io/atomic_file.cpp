@@ -111,11 +111,14 @@ void UnregisterCleanup(int slot) {
 // inside one), it counts itself in g_creations, and it makes nothing once g_removing is set. The
 // handler sets g_removing, waits for g_creations to reach zero, and only then looks at the table
 // (both sequentially consistent: a guard either sees g_removing or is waited for).
-// A set of files put in place one rename at a time (WriteFilesAtomically, StagedDirectory::
-// Commit into an existing directory) runs its renames inside one SignalGuard too: otherwise a
-// signal part-way (on this thread or another) would remove the temporaries not yet renamed and
-// leave the output half old, half new. With the guard the set is put in place whole, then the
-// signal ends the process (no data is written while renaming: a few system calls per file).
+// Putting files in place runs inside a SignalGuard too: the renames of a whole set
+// (WriteFilesAtomically, StagedDirectory::Commit into an existing directory) in one guard, so
+// that a signal part-way (on this thread or another) cannot remove the temporaries not yet
+// renamed and leave the output half old, half new; a single file's Commit (WriteFileAtomically)
+// in its own, so that the exchange with what was at the path and its check are one step. The
+// set goes into place whole, then the signal ends the process (renaming writes no data: a few
+// system calls per file). Guards are never nested: an inner one that met g_removing would wait
+// forever while the outer one still counted, and the handler would give up waiting after 2 s.
 std::atomic<int> g_creations{0};
 std::atomic<bool> g_removing{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
@@ -466,7 +469,14 @@ bool WriteFileAtomically(const std::string& path,
   // Refuse early what the final step would refuse, with a clearer message.
   if (!CheckReplaceable(path, overwrite, error)) return false;
   Staged staged;
-  if (!Stage(path, produce, &staged, error) || !Commit(&staged, overwrite, error)) return false;
+  if (!Stage(path, produce, &staged, error)) return false;
+  {
+    // The exchange with what was at path and its check are one step for a signal too: a
+    // handler between them would leave a node that is not a regular file (swapped back by
+    // Commit) under the temporary's name.
+    SignalGuard guard;
+    if (!Commit(&staged, overwrite, error)) return false;
+  }
   SyncDirectory(path);
   return true;
 }
