@@ -921,6 +921,38 @@ TEST(AtomicFile, RefusesADirectory) {
   EXPECT_TRUE(dir.Entries().empty());
 }
 
+// The directory of a death test in the threadsafe style (the child runs the test again from the
+// start): the parent makes it and passes it to the child through the environment variable; the
+// style and the variable are restored when the test ends (also on an ASSERT's early return).
+class DeathTestDirectory {
+ public:
+  explicit DeathTestDirectory(const char* variable)
+      : variable_(variable), previous_style_(GTEST_FLAG_GET(death_test_style)) {
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    if (const char* inherited = std::getenv(variable)) {
+      path_ = inherited;  // the child: the parent's directory
+      return;
+    }
+    own_ = std::make_unique<TempDirectory>();
+    path_ = own_->path();
+    if (!path_.empty()) ::setenv(variable, path_.c_str(), 1);
+  }
+  ~DeathTestDirectory() {
+    if (own_) ::unsetenv(variable_);
+    GTEST_FLAG_SET(death_test_style, previous_style_);  // the rest of the binary's tests as they were
+  }
+  DeathTestDirectory(const DeathTestDirectory&) = delete;
+  DeathTestDirectory& operator=(const DeathTestDirectory&) = delete;
+  bool parent() const { return own_ != nullptr; }
+  const std::string& path() const { return path_; }
+
+ private:
+  const char* variable_;
+  std::string previous_style_;
+  std::unique_ptr<TempDirectory> own_;
+  std::string path_;
+};
+
 // A signal while other threads keep writing: the handler runs on one thread and the others go on,
 // so one of them could make a temporary after the handler had passed its slot and leave it
 // behind (cli_limits' groom SIGTERM case saw one under load; SignalGuard in atomic_file.cpp).
@@ -929,19 +961,9 @@ TEST(AtomicFile, RefusesADirectory) {
 // pause while the main thread raises SIGTERM after a few milliseconds; the child must die by
 // the signal and leave only whole files. Before the fix, 6 of the 20 trials left one (idle).
 TEST(AtomicFileDeathTest, SignalWhileOtherThreadsWriteLeavesNoTemporary) {
-  const std::string previous_style = GTEST_FLAG_GET(death_test_style);
-  GTEST_FLAG_SET(death_test_style, "threadsafe");
-  constexpr const char* kVariable = "RINGLET_TEST_SIGNAL_DIRECTORY";
-  std::unique_ptr<TempDirectory> own;
-  std::string directory;
-  if (const char* inherited = std::getenv(kVariable)) {
-    directory = inherited;  // the child: the parent's directory
-  } else {
-    own = std::make_unique<TempDirectory>();
-    directory = own->path();
-    ASSERT_FALSE(directory.empty());
-    ::setenv(kVariable, directory.c_str(), 1);
-  }
+  const DeathTestDirectory death_directory("RINGLET_TEST_SIGNAL_DIRECTORY");
+  const std::string& directory = death_directory.path();
+  ASSERT_FALSE(directory.empty());
   for (int trial = 0; trial < 20; ++trial) {
     const std::string trial_directory = directory + "/" + std::to_string(trial);
     ::mkdir(trial_directory.c_str(), 0777);
@@ -971,8 +993,6 @@ TEST(AtomicFileDeathTest, SignalWhileOtherThreadsWriteLeavesNoTemporary) {
       EXPECT_EQ(name.find(".tmp-"), std::string::npos) << "trial " << trial << " left " << name;
     }
   }
-  if (own) ::unsetenv(kVariable);
-  GTEST_FLAG_SET(death_test_style, previous_style);  // the rest of the binary's tests as they were
 }
 
 // A set of files put in place one rename at a time (WriteFilesAtomically; StagedDirectory::
@@ -987,23 +1007,14 @@ std::atomic<int> g_raise_after_renames{0};
 
 // Runs `commit` (which writes "new" over the files of `names` in directory/<way>) in a
 // death-test child that SIGTERM ends right after the first rename; the set must be all new and
-// no temporary or staging directory left. Threadsafe style as above (the directory through the
-// environment; the child skips the set-up).
+// no temporary or staging directory left (DeathTestDirectory; the child skips the set-up).
 void ExpectSignalLeavesWholeSet(
     const std::string& way, const std::vector<std::string>& names,
     const std::function<void(const std::string&, const std::vector<std::string>&)>& commit) {
-  const std::string previous_style = GTEST_FLAG_GET(death_test_style);
-  GTEST_FLAG_SET(death_test_style, "threadsafe");
-  constexpr const char* kVariable = "RINGLET_TEST_COMMIT_DIRECTORY";
-  std::unique_ptr<TempDirectory> own;
-  std::string directory;
-  if (const char* inherited = std::getenv(kVariable)) {
-    directory = std::string(inherited) + "/" + way;  // the child: the parent's, set up
-  } else {
-    own = std::make_unique<TempDirectory>();
-    ASSERT_FALSE(own->path().empty());
-    ::setenv(kVariable, own->path().c_str(), 1);
-    directory = own->path() + "/" + way;
+  const DeathTestDirectory death_directory("RINGLET_TEST_COMMIT_DIRECTORY");
+  ASSERT_FALSE(death_directory.path().empty());
+  const std::string directory = death_directory.path() + "/" + way;
+  if (death_directory.parent()) {  // the child finds it set up
     ASSERT_EQ(::mkdir(directory.c_str(), 0777), 0);
     for (const std::string& name : names) {
       std::string error;
@@ -1018,7 +1029,7 @@ void ExpectSignalLeavesWholeSet(
         std::exit(0);  // not reached: the signal ends the process once the set is in place
       },
       ::testing::KilledBySignal(SIGTERM), "");
-  if (own) {
+  if (death_directory.parent()) {
     for (const std::string& name : names) {
       std::string contents, error;
       ASSERT_TRUE(ReadFile(directory + "/" + name, &contents, &error)) << error;
@@ -1031,9 +1042,7 @@ void ExpectSignalLeavesWholeSet(
       ++entries;
     }
     EXPECT_EQ(entries, names.size()) << way;
-    ::unsetenv(kVariable);
   }
-  GTEST_FLAG_SET(death_test_style, previous_style);
 }
 
 const std::vector<std::string> kOutputSet = {"hair.usda", "strands.hair", "strands.obj",
